@@ -1,0 +1,346 @@
+/// \file outline_validate.cpp
+/// Checks and orients outlines with CGAL's exact predicates (validate_and_orient).
+
+#include <CGAL/Boolean_set_operations_2.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/Polygon_with_holes_2.h>
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "hexdem/error.hpp"
+#include "hexdem/meshing/outline.hpp"
+
+namespace hexdem::meshing {
+namespace {
+
+using K = CGAL::Exact_predicates_exact_constructions_kernel;
+using Point = K::Point_2;
+using Segment = K::Segment_2;
+using Polygon = CGAL::Polygon_2<K>;
+using PolygonWithHoles = CGAL::Polygon_with_holes_2<K>;
+using EdgeBox = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::size_t>;
+
+/// Nine significant digits: computed points and areas, not echoes of the input.
+std::string format_number(double value) {
+  char buffer[32];
+  const auto result =
+      std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 9);
+  return std::string(buffer, result.ptr);
+}
+
+std::string format_point(double x, double y) {
+  std::string text = "(";
+  text.append(format_number(x)).append(", ").append(format_number(y)).append(")");
+  return text;
+}
+
+std::string format_point(const Point& p) {
+  return format_point(CGAL::to_double(p.x()), CGAL::to_double(p.y()));
+}
+
+/// Throws the one-line message "<where>: <problem> (<value>)".
+[[noreturn]] void fail(const std::string& where, const std::string& problem,
+                       const std::string& value) {
+  throw InputError(where + ": " + problem + " (" + value + ")");
+}
+
+/// Removes exactly repeated consecutive vertices (and a repeated closing vertex) together
+/// with the zero-length edges that start at them, keeping the per-edge arrays aligned.
+void drop_repeated_vertices(Loop& loop) {
+  std::vector<Vec2> points;
+  std::vector<std::int32_t> edge_set;
+  std::vector<std::uint8_t> edge_straight;
+  const auto same = [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; };
+  for (std::size_t k = 0; k < loop.points.size(); ++k) {
+    if (!points.empty() && same(points.back(), loop.points[k])) {
+      // Edge k-1 has zero length: edge k continues from the kept vertex instead.
+      edge_set.back() = loop.edge_set[k];
+      edge_straight.back() = loop.edge_straight[k];
+      continue;
+    }
+    points.push_back(loop.points[k]);
+    edge_set.push_back(loop.edge_set[k]);
+    edge_straight.push_back(loop.edge_straight[k]);
+  }
+  // A repeated closing vertex starts the zero-length closing edge; the edge before it closes.
+  while (points.size() > 1 && same(points.back(), points.front())) {
+    points.pop_back();
+    edge_set.pop_back();
+    edge_straight.pop_back();
+  }
+  loop.points = std::move(points);
+  loop.edge_set = std::move(edge_set);
+  loop.edge_straight = std::move(edge_straight);
+}
+
+/// Reverses the direction of travel, keeping points[0] first. Edge k runs
+/// points[k] -> points[k+1]; the new order p0, p(n-1), ..., p1 makes new edge k the old
+/// edge n-1-k traversed backwards, so the per-edge arrays are reversed whole.
+void reverse_loop(Loop& loop) {
+  std::reverse(loop.points.begin() + 1, loop.points.end());
+  std::reverse(loop.edge_set.begin(), loop.edge_set.end());
+  std::reverse(loop.edge_straight.begin(), loop.edge_straight.end());
+}
+
+/// An edge of one loop in a group of loops.
+struct EdgeRef {
+  std::size_t loop = 0;
+  std::size_t edge = 0;
+};
+
+/// Two edges that meet where they must not, and a point where they meet.
+struct Contact {
+  EdgeRef a;
+  EdgeRef b;
+  Point at;
+};
+
+/// Whether neighbouring edges u-v and v-w of one loop overlap (fold back along a line)
+/// rather than meet only at their shared vertex v.
+bool folds_back(const Point& u, const Point& v, const Point& w) {
+  return CGAL::collinear(u, v, w) && !CGAL::collinear_are_ordered_along_line(u, v, w);
+}
+
+/// A point common to two segments known to intersect.
+Point common_point(const Segment& a, const Segment& b) {
+  const auto result = CGAL::intersection(a, b);
+  if (const Point* p = boost::get<Point>(&*result)) return *p;
+  return boost::get<Segment>(*result).source();
+}
+
+/// Finds the first (lowest loop and edge indices) pair of edges that meet improperly.
+/// With `within_loops`, only pairs of edges of the same loop are examined and neighbouring
+/// edges may share their common vertex; otherwise only pairs from different loops are
+/// examined and any common point is a contact. Candidate pairs come from a box-intersection
+/// search on the edges' bounding boxes, so the search is fast unless many edges overlap.
+std::optional<Contact> find_contact(const std::vector<const Polygon*>& loops,
+                                    bool within_loops) {
+  std::vector<EdgeRef> refs;
+  std::vector<EdgeBox> boxes;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    const Polygon& polygon = *loops[l];
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      boxes.emplace_back(polygon.edge(k).bbox(), refs.size());
+      refs.push_back({l, k});
+    }
+  }
+
+  std::optional<std::tuple<std::size_t, std::size_t, std::size_t, std::size_t>> best;
+  const auto examine = [&](const EdgeBox& box_a, const EdgeBox& box_b) {
+    EdgeRef a = refs[box_a.info()];
+    EdgeRef b = refs[box_b.info()];
+    if ((a.loop == b.loop) != within_loops) return;
+    if (std::tie(b.loop, b.edge) < std::tie(a.loop, a.edge)) std::swap(a, b);
+    const auto key = std::make_tuple(a.loop, a.edge, b.loop, b.edge);
+    if (best && *best <= key) return;
+    const Polygon& pa = *loops[a.loop];
+    const Polygon& pb = *loops[b.loop];
+    const Segment sa = pa.edge(a.edge);
+    const Segment sb = pb.edge(b.edge);
+    if (!CGAL::do_intersect(sa, sb)) return;
+    if (within_loops) {
+      const std::size_t n = pa.size();
+      if ((a.edge + 1) % n == b.edge && !folds_back(sa.source(), sa.target(), sb.target())) return;
+      if ((b.edge + 1) % n == a.edge && !folds_back(sb.source(), sb.target(), sa.target())) return;
+    }
+    best = key;
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), examine);
+
+  if (!best) return std::nullopt;
+  const auto [loop_a, edge_a, loop_b, edge_b] = *best;
+  const Segment sa = loops[loop_a]->edge(edge_a);
+  const Segment sb = loops[loop_b]->edge(edge_b);
+  return Contact{{loop_a, edge_a}, {loop_b, edge_b}, common_point(sa, sb)};
+}
+
+/// Cleans one loop, checks that it is a simple polygon of non-zero area, orients it
+/// (counter-clockwise if outer, clockwise if a hole) and returns it as a CGAL polygon.
+Polygon prepare_loop(Loop& loop, bool hole) {
+  const std::size_t count = loop.points.size();
+  HEXDEM_VERIFY(loop.edge_set.size() == count && loop.edge_straight.size() == count,
+                loop.where + ": per-edge arrays must have one entry per point");
+  for (std::size_t k = 0; k < count; ++k) {
+    if (!std::isfinite(loop.points[k].x) || !std::isfinite(loop.points[k].y))
+      fail(loop.where, "non-finite coordinate", "point " + std::to_string(k));
+  }
+  drop_repeated_vertices(loop);
+  const std::size_t n = loop.points.size();
+  if (n < 3) fail(loop.where, "fewer than 3 distinct vertices", "got " + std::to_string(n));
+
+  Polygon polygon;
+  for (const Vec2& p : loop.points) polygon.push_back(Point(p.x, p.y));
+
+  const bool all_collinear = std::all_of(
+      polygon.vertices_begin() + 2, polygon.vertices_end(),
+      [&](const Point& p) { return CGAL::collinear(polygon[0], polygon[1], p); });
+  if (all_collinear)
+    fail(loop.where, "zero area", "all " + std::to_string(n) + " vertices lie on one line");
+
+  if (!polygon.is_simple()) {
+    const auto contact = find_contact({&polygon}, true);
+    if (!contact) fail(loop.where, "self-intersecting outline", "not a simple polygon");
+    fail(loop.where, "self-intersecting outline",
+         "edges " + std::to_string(contact->a.edge) + " and " + std::to_string(contact->b.edge) +
+             " meet at " + format_point(contact->at));
+  }
+
+  const CGAL::Orientation wanted = hole ? CGAL::CLOCKWISE : CGAL::COUNTERCLOCKWISE;
+  if (polygon.orientation() != wanted) {
+    reverse_loop(loop);
+    polygon.reverse_orientation();
+  }
+  return polygon;
+}
+
+/// One oriented loop of a body.
+struct BodyLoop {
+  const Loop* loop;
+  Polygon polygon;
+  bool hole;
+};
+
+/// Whether p lies strictly inside `polygon` (bounding box first).
+bool strictly_inside(const Point& p, const Polygon& polygon) {
+  const CGAL::Bbox_2 box = polygon.bbox();
+  const double x = CGAL::to_double(p.x()), y = CGAL::to_double(p.y());
+  if (x < box.xmin() || x > box.xmax() || y < box.ymin() || y > box.ymax()) return false;
+  return polygon.bounded_side(p) == CGAL::ON_BOUNDED_SIDE;
+}
+
+/// Checks that the loops of one body neither touch nor overlap and that every hole lies in
+/// the body; returns the body as polygons with holes (each hole in its innermost outer).
+std::vector<PolygonWithHoles> assemble_body(const BodyOutline& body,
+                                            const std::vector<BodyLoop>& loops) {
+  std::vector<const Polygon*> polygons;
+  for (const BodyLoop& l : loops) polygons.push_back(&l.polygon);
+  if (const auto contact = find_contact(polygons, false)) {
+    // Name the hole when one is involved: it is the loop the user most likely misplaced.
+    EdgeRef mine = contact->b, other = contact->a;
+    if (loops[mine.loop].hole == false && loops[other.loop].hole) std::swap(mine, other);
+    const BodyLoop& m = loops[mine.loop];
+    const BodyLoop& o = loops[other.loop];
+    fail(m.loop->where,
+         std::string(m.hole ? "hole" : "outer boundary") + " touches or crosses " +
+             (o.hole ? "hole " : "outer boundary ") + o.loop->where,
+         "its edge " + std::to_string(mine.edge) + " meets edge " + std::to_string(other.edge) +
+             " at " + format_point(contact->at));
+  }
+
+  // No two loops meet, so each is either inside or outside each other one, and one vertex
+  // decides. The body's region at a point is (outers around it) - (holes around it): 1 inside
+  // the body, 0 outside.
+  std::vector<std::size_t> owner(loops.size(), loops.size());
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    const Point& p = loops[i].polygon[0];
+    int outers_around = 0;
+    int holes_around = 0;
+    std::size_t innermost = loops.size();
+    for (std::size_t j = 0; j < loops.size(); ++j) {
+      if (j == i || !strictly_inside(p, loops[j].polygon)) continue;
+      if (loops[j].hole) {
+        ++holes_around;
+      } else {
+        ++outers_around;
+        if (innermost == loops.size() ||
+            CGAL::abs(loops[j].polygon.area()) < CGAL::abs(loops[innermost].polygon.area()))
+          innermost = j;
+      }
+    }
+    const int depth = outers_around - holes_around;
+    const std::string vertex = "its vertex " + format_point(p);
+    if (loops[i].hole) {
+      if (outers_around == 0)
+        fail(loops[i].loop->where, "hole is not inside an outer boundary of body '" + body.name + "'",
+             vertex + " is outside");
+      if (depth != 1) fail(loops[i].loop->where, "hole lies inside another hole", vertex);
+      owner[i] = innermost;
+    } else if (depth != 0) {
+      fail(loops[i].loop->where, "outer boundary overlaps another outer boundary of body '" +
+                                     body.name + "'",
+           vertex + " is inside it");
+    }
+  }
+
+  std::vector<PolygonWithHoles> result;
+  std::vector<std::size_t> slot(loops.size(), 0);
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (loops[i].hole) continue;
+    slot[i] = result.size();
+    result.emplace_back(loops[i].polygon);
+  }
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (loops[i].hole) result[slot[owner[i]]].add_hole(loops[i].polygon);
+  }
+  return result;
+}
+
+/// Total area of a set of polygons with holes [m^2].
+double total_area(const std::vector<PolygonWithHoles>& parts) {
+  double area = 0.0;
+  for (const PolygonWithHoles& part : parts) {
+    area += CGAL::to_double(part.outer_boundary().area());
+    for (auto h = part.holes_begin(); h != part.holes_end(); ++h) area += CGAL::to_double(h->area());
+  }
+  return area;
+}
+
+bool boxes_overlap(const CGAL::Bbox_2& a, const CGAL::Bbox_2& b) {
+  return a.xmin() < b.xmax() && b.xmin() < a.xmax() && a.ymin() < b.ymax() && b.ymin() < a.ymax();
+}
+
+}  // namespace
+
+void validate_and_orient(Outline& outline) {
+  struct BodyParts {
+    std::vector<PolygonWithHoles> parts;
+    std::vector<const Loop*> outer_of_part;
+  };
+  std::vector<BodyParts> bodies;
+  for (BodyOutline& body : outline.bodies) {
+    if (body.outers.empty())
+      fail(body.where, "body has no outer boundary",
+           std::to_string(body.holes.size()) + " holes");
+    std::vector<BodyLoop> loops;
+    for (Loop& loop : body.outers) loops.push_back({&loop, prepare_loop(loop, false), false});
+    for (Loop& loop : body.holes) loops.push_back({&loop, prepare_loop(loop, true), true});
+    BodyParts parts;
+    parts.parts = assemble_body(body, loops);
+    for (const BodyLoop& l : loops) {
+      if (!l.hole) parts.outer_of_part.push_back(l.loop);
+    }
+    bodies.push_back(std::move(parts));
+  }
+
+  // Bodies may touch (share boundary) but must not overlap: the regularized intersection
+  // of any two must have zero area.
+  for (std::size_t a = 0; a < bodies.size(); ++a) {
+    for (std::size_t b = a + 1; b < bodies.size(); ++b) {
+      for (std::size_t i = 0; i < bodies[a].parts.size(); ++i) {
+        for (std::size_t j = 0; j < bodies[b].parts.size(); ++j) {
+          const PolygonWithHoles& pa = bodies[a].parts[i];
+          const PolygonWithHoles& pb = bodies[b].parts[j];
+          if (!boxes_overlap(pa.outer_boundary().bbox(), pb.outer_boundary().bbox())) continue;
+          if (!CGAL::do_intersect(pa, pb)) continue;
+          std::vector<PolygonWithHoles> overlap;
+          CGAL::intersection(pa, pb, std::back_inserter(overlap));
+          fail(bodies[b].outer_of_part[j]->where,
+               "overlaps " + bodies[a].outer_of_part[i]->where,
+               "overlap area " + format_number(total_area(overlap)) + " m^2, one corner at " +
+                   format_point(overlap.front().outer_boundary()[0]));
+        }
+      }
+    }
+  }
+}
+
+}  // namespace hexdem::meshing

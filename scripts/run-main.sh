@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The main job: installs what is missing, builds hexdem, meshes the bundled example outlines
+# and renders PNG pictures of the lattices with pvbatch. Output: hexdem-output/ (or $1).
+# Usage (as root on Debian 12): scripts/run-main.sh [OUTPUT_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-hexdem-output}
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+
+scripts/setup-deps.sh
+scripts/build.sh release
+hexdem=build/release/solver/hexdem
+
+"$hexdem" --version
+"$hexdem" mesh cases/halfplane/outline.toml -o "$out/halfplane.vtu"
+"$hexdem" mesh cases/narrow_plate/outline.toml -o "$out/narrow_plate.vtu"
+"$hexdem" mesh cases/warhead/outline.toml --axisymmetric -o "$out/warhead.vtu"
+
+render() { xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch scripts/render_lattice.py "$@"; }
+render "$out/warhead.vtu" "$out/warhead.png" --color body
+render "$out/warhead.vtu" "$out/warhead_detail.png" --color kind --zoom 0 -0.004 0.016 0.016
+render "$out/halfplane.vtu" "$out/halfplane_load.png" --color load --zoom 0 -0.012 0.03 0.001
+
+cat <<MSG
+
+Done. Lattices and pictures are in $out:
+$(cd "$out" && ls -1 *.vtu *.png | sed 's/^/  /')
+Open a lattice in ParaView: paraview $out/warhead.vtu
+(points are disk centres: choose the "Point Gaussian" representation with Scale Array
+"radius"; lines are bonds, coloured by "bond_class").
+MSG

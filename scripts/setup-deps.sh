@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages hexdem needs to build, test and render (idempotent).
+# Usage: scripts/setup-deps.sh        (as root, or with sudo available)
+set -euo pipefail
+
+# libopenmpi-dev: ParaView's CMake package checks MPI headers at configure time.
+packages=(
+  build-essential cmake ninja-build git pkg-config
+  paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth
+  libcgal-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev
+  python3-ezdxf clang-format time
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "hexdem: all build dependencies present"
+  exit 0
+fi
+
+echo "hexdem: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

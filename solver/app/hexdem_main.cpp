@@ -1,0 +1,150 @@
+// hexdem: the command-line program. Subcommands: mesh.
+// Exit codes: 0 success, 1 internal or numerical failure, 2 bad input (one-line message).
+#include <CLI/CLI.hpp>
+#include <omp.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/lattice_vtu.hpp"
+#include "hexdem/meshing/outline_dxf.hpp"
+#include "hexdem/meshing/outline_toml.hpp"
+#include "hexdem/version.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hexdem;
+
+struct MeshArgs {
+  std::string outline;
+  std::string output;
+  double radius = 0.0;
+  double angle = 0.0;
+  std::vector<double> origin;
+  double scale = 0.0;
+  bool axisymmetric = false;
+  bool quiet = false;
+  int threads = 0;
+  int compression = 1;
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+
+  meshing::ReadOptions ro;
+  if (cmd.count("--radius")) {
+    if (!(a.radius > 0)) throw InputError("--radius: must be > 0 (got " + std::to_string(a.radius) + ")");
+    ro.radius = a.radius;
+  }
+  if (cmd.count("--angle")) ro.angle_deg = a.angle;
+  if (cmd.count("--origin")) ro.origin = meshing::Vec2{a.origin.at(0), a.origin.at(1)};
+  if (cmd.count("--scale")) {
+    if (!(a.scale > 0)) throw InputError("--scale: must be > 0 (got " + std::to_string(a.scale) + ")");
+    ro.scale = a.scale;
+  }
+
+  std::vector<std::string> warnings;
+  const std::string ext = lower_extension(a.outline);
+  meshing::Outline outline;
+  if (ext == ".dxf") {
+    outline = meshing::read_outline_dxf(a.outline, ro, &warnings);
+  } else if (ext == ".toml") {
+    outline = meshing::read_outline_toml(a.outline, ro);
+  } else {
+    throw InputError(a.outline + ": unknown outline format '" + ext + "' (expected .toml or .dxf)");
+  }
+  for (const std::string& w : warnings) std::cerr << "hexdem: warning: " << w << "\n";
+
+  meshing::GeneratorOptions go;
+  go.mode = a.axisymmetric ? meshing::GeometryMode::Axisymmetric : meshing::GeometryMode::Plane;
+  meshing::GeneratorReport rep;
+  const meshing::Lattice lattice = meshing::generate_lattice(outline, go, &rep);
+
+  std::string out = a.output;
+  if (out.empty()) out = fs::path(a.outline).stem().string() + ".vtu";
+  io::WriteOptions wo;
+  wo.compression_level = a.compression;
+  meshing::write_lattice_vtu(out, lattice, wo);
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  if (!a.quiet) {
+    std::string names;
+    for (const auto& n : lattice.body_names) names += (names.empty() ? "" : ", ") + n;
+    std::printf("hexdem mesh: %s -> %s (%s)\n", a.outline.c_str(), out.c_str(),
+                a.axisymmetric ? "axisymmetric" : "plane");
+    std::printf("  bodies      %zu (%s)\n", lattice.body_names.size(), names.c_str());
+    std::printf("  disks       %lld (of which semi-disks %lld)\n", static_cast<long long>(rep.disks),
+                static_cast<long long>(rep.semi_disks));
+    std::printf("  bonds       %lld\n", static_cast<long long>(rep.bonds));
+    std::printf("  sets        %zu", lattice.num_sets());
+    for (std::size_t s = 0; s < lattice.num_sets(); ++s) {
+      std::printf("%s%s (%lld)", s ? ", " : ": ", lattice.set_names[s].c_str(),
+                  static_cast<long long>(lattice.set_offset[s + 1] - lattice.set_offset[s]));
+    }
+    std::printf("\n");
+    std::printf("  area        cells %.9g m^2, region %.9g m^2, error %.2e\n", rep.cell_area_sum,
+                rep.region_area, rep.area_error());
+    std::printf("  smallest cell %.3f of a full hexagon\n", rep.min_cell_fraction);
+    std::printf("  time        generation %.3f s, total %.3f s\n", rep.seconds, total);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"hexdem: discrete element lattices for impact and fracture", "hexdem"};
+  app.set_version_flag("--version", std::string("hexdem ") + HEXDEM_VERSION_STRING);
+  app.require_subcommand(1);
+
+  MeshArgs mesh;
+  CLI::App* mesh_cmd = app.add_subcommand(
+      "mesh", "Fill an outline (TOML or DXF) with disks on a hexagonal lattice and write a .vtu");
+  mesh_cmd->add_option("outline", mesh.outline, "Outline file (.toml or .dxf)")->required();
+  mesh_cmd->add_option("-o,--output", mesh.output, "Output .vtu (default: <outline name>.vtu)");
+  mesh_cmd->add_option("-r,--radius", mesh.radius, "Disk radius r [m] (overrides the file's [lattice])");
+  mesh_cmd->add_option("-a,--angle", mesh.angle, "Lattice axis angle from x [degrees]");
+  mesh_cmd->add_option("--origin", mesh.origin, "A lattice point X Y [m]")->expected(2);
+  mesh_cmd->add_flag("--axisymmetric", mesh.axisymmetric,
+                     "Axisymmetric mode: x is the radius r >= 0, y the axis z");
+  mesh_cmd->add_option("--scale", mesh.scale, "Metres per drawing unit (overrides units / $INSUNITS)");
+  mesh_cmd->add_option("-j,--threads", mesh.threads, "OpenMP threads (default: all)");
+  mesh_cmd->add_option("--compression-level", mesh.compression, "zlib level 0-9 for the .vtu")
+      ->check(CLI::Range(0, 9));
+  mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "Print nothing on success");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? hexdem::kExitOk : hexdem::kExitInputError;
+  }
+
+  try {
+    if (*mesh_cmd) return run_mesh(mesh, *mesh_cmd);
+  } catch (const hexdem::InputError& e) {
+    std::cerr << "hexdem: error: " << e.what() << "\n";
+    return hexdem::kExitInputError;
+  } catch (const std::exception& e) {
+    std::cerr << "hexdem: internal error: " << e.what() << "\n";
+    return hexdem::kExitFailure;
+  }
+  return hexdem::kExitOk;
+}
