@@ -17,7 +17,18 @@ hexdem=build/release/solver/hexdem
 "$hexdem" mesh cases/narrow_plate/outline.toml -o "$out/narrow_plate.vtu"
 "$hexdem" mesh cases/warhead/outline.toml --axisymmetric -o "$out/warhead.vtu"
 
-render() { xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch scripts/render_lattice.py "$@"; }
+# xvfb-run -a can lose a race for a display number with another X server starting at the
+# same moment ("bad X server connection"): try again before giving up.
+render() {
+  local attempt
+  for attempt in 1 2 3; do
+    if xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch scripts/render_lattice.py "$@"; then return 0; fi
+    [ -e "${1:-}" ] || return 1   # a missing input is not worth retrying
+    echo "render: attempt $attempt failed, retrying" >&2
+    sleep 2
+  done
+  return 1
+}
 render "$out/warhead.vtu" "$out/warhead.png" --color body
 render "$out/warhead.vtu" "$out/warhead_detail.png" --color kind --zoom 0 -0.004 0.016 0.016
 render "$out/halfplane.vtu" "$out/halfplane_load.png" --color load --zoom 0 -0.012 0.03 0.001

@@ -54,9 +54,9 @@ std::size_t Lattice::memory_bytes() const {
   return held_bytes(x) + held_bytes(y) + held_bytes(radius) + held_bytes(cell_area) +
          held_bytes(cell_cx) + held_bytes(cell_cy) + held_bytes(kind) + held_bytes(body) +
          held_bytes(material) + held_bytes(bond_i) + held_bytes(bond_j) +
-         held_bytes(bond_class) + held_bytes(bond_b) + held_bytes(set_names) +
+         held_bytes(bond_class) + held_bytes(bond_on_edge) + held_bytes(bond_b) + held_bytes(set_names) +
          held_bytes(set_offset) + held_bytes(set_disk) + held_bytes(set_length) +
-         held_bytes(set_nx) + held_bytes(set_ny) + held_bytes(body_names) +
+         held_bytes(set_nx) + held_bytes(set_ny) + held_bytes(set_distance) + held_bytes(set_cx) + held_bytes(set_cy) + held_bytes(body_names) +
          held_bytes(body_region_area);
 }
 

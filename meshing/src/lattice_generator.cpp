@@ -112,8 +112,10 @@ struct BoundaryPoint {
 /// Length of a named outline edge lying on a cell boundary.
 struct Face {
   std::int32_t set;
+  std::int32_t edge;  ///< the outline edge (index into edges_)
   double length;
   double nx, ny;  ///< length times outward unit normal (lattice frame)
+  double mx, my;  ///< length times the face's midpoint (lattice frame)
 };
 
 struct Run {
@@ -374,7 +376,8 @@ private:
           const double len = std::hypot(ab.x, ab.y);
           const double l = (t1 - t0) * len;
           // Region interior is on the left of every edge: outward normal is on the right.
-          faces_.push_back({e.set, l, l * ab.y / len, -l * ab.x / len});
+          const Vec2 mid = add(c, scale(add(p, qq), 0.5));
+          faces_.push_back({e.set, local_edges_[q], l, l * ab.y / len, -l * ab.x / len, l * mid.x, l * mid.y});
         }
       }
       bp.face_end = static_cast<std::int32_t>(faces_.size());
@@ -622,6 +625,19 @@ private:
     return false;
   }
 
+  /// True if the bond p-q lies on a neat outline edge (both ends on it): such a bond has
+  /// only half its tributary area inside the region.
+  [[nodiscard]] bool along_neat_edge(std::int32_t bp, Vec2 p, Vec2 q) const {
+    const BoundaryPoint& b = bpoints_[bp];
+    if (!b.semi) return false;
+    const double tol = kTolerance * f_.d;
+    for (std::int32_t k = b.edge_begin; k < b.edge_end; ++k) {
+      const Edge& e = edges_[local_edges_[k]];
+      if (e.neat && segment_distance(p, e.a0, e.b0) < tol && segment_distance(q, e.a0, e.b0) < tol) return true;
+    }
+    return false;
+  }
+
   void create_bonds() {
     const std::int64_t nrows = jmax_ - jmin_ + 1;
     for (std::int64_t row = 0; row < nrows; ++row) {
@@ -644,6 +660,8 @@ private:
             out_.bond_i.push_back(static_cast<std::int32_t>(a));
             out_.bond_j.push_back(static_cast<std::int32_t>(b));
             out_.bond_class.push_back(static_cast<std::uint8_t>(nb[2]));
+            out_.bond_on_edge.push_back(bpa >= 0 && bpb >= 0 &&
+                                        along_neat_edge(bpa, pa, f_.point(nb[0], nb[1])));
             if (mode_ == GeometryMode::Axisymmetric) out_.bond_b.push_back(0.5 * (out_.x[a] + out_.x[b]));
           }
         }
@@ -652,14 +670,19 @@ private:
   }
 
   // ---- boundary sets --------------------------------------------------------------------
-  struct SetEntry { std::int32_t set; std::int32_t disk; double length, nx, ny; };
+  struct SetEntry { std::int32_t set; std::int32_t disk; double length, nx, ny, distance, mx, my; };
   std::vector<SetEntry> set_entries_;
 
   void collect_sets() {
     auto add_face = [&](std::int64_t disk, const Face& fc) {
       // Normal back to the global frame.
       const Vec2 n{f_.cos_t * fc.nx - f_.sin_t * fc.ny, f_.sin_t * fc.nx + f_.cos_t * fc.ny};
-      set_entries_.push_back({fc.set, static_cast<std::int32_t>(disk), fc.length, n.x, n.y});
+      // Distance from the disk centre to the (true) edge, for boundary conditions.
+      const Edge& e = edges_[fc.edge];
+      const double dist = segment_distance(f_.to_lattice({out_.x[disk], out_.y[disk]}), e.a0, e.b0);
+      const Vec2 mid = fc.length > 0 ? f_.to_global({fc.mx / fc.length, fc.my / fc.length}) : Vec2{};
+      set_entries_.push_back({fc.set, static_cast<std::int32_t>(disk), fc.length, n.x, n.y, dist,
+                              fc.length * mid.x, fc.length * mid.y});
     };
     for (std::size_t k = 0; k < bpoints_.size(); ++k) {
       const BoundaryPoint& b = bpoints_[k];
@@ -686,7 +709,7 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
   lat.mode = options.mode;
   lat.set_names = outline.boundary_names;
 
-  struct Entry { std::int32_t set, disk; double length, nx, ny; };
+  struct Entry { std::int32_t set, disk; double length, nx, ny, distance, mx, my; };
   std::vector<Entry> entries;
   for (std::size_t b = 0; b < outline.bodies.size(); ++b) {
     BodyOutline body = outline.bodies[b];
@@ -711,7 +734,7 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
     lat.body_names.push_back(body.name);
     lat.body_region_area.push_back(filler.region_area());
     report.region_area += filler.region_area();
-    for (const auto& e : filler.set_entries()) entries.push_back({e.set, e.disk, e.length, e.nx, e.ny});
+    for (const auto& e : filler.set_entries()) entries.push_back({e.set, e.disk, e.length, e.nx, e.ny, e.distance, e.mx, e.my});
     if (options.mode == GeometryMode::Axisymmetric) {
       for (std::size_t k = first; k < lat.x.size(); ++k) {
         if (!(lat.cell_cx[k] > 0)) {
@@ -729,9 +752,12 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
   lat.set_offset.assign(lat.set_names.size() + 1, 0);
   for (std::size_t k = 0; k < entries.size();) {
     std::size_t e = k;
-    double len = 0, nx = 0, ny = 0;
+    double len = 0, nx = 0, ny = 0, mx = 0, my = 0, dist = std::numeric_limits<double>::infinity();
     while (e < entries.size() && entries[e].set == entries[k].set && entries[e].disk == entries[k].disk) {
+      dist = std::min(dist, entries[e].distance);
       len += entries[e].length;
+      mx += entries[e].mx;
+      my += entries[e].my;
       nx += entries[e].nx;
       ny += entries[e].ny;
       ++e;
@@ -741,6 +767,9 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
     lat.set_length.push_back(len);
     lat.set_nx.push_back(nn > 0 ? nx / nn : 0.0);
     lat.set_ny.push_back(nn > 0 ? ny / nn : 0.0);
+    lat.set_distance.push_back(dist);
+    lat.set_cx.push_back(len > 0 ? mx / len : lat.x[entries[k].disk]);
+    lat.set_cy.push_back(len > 0 ? my / len : lat.y[entries[k].disk]);
     lat.set_offset[entries[k].set + 1] += 1;
     k = e;
   }

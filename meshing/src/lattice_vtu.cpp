@@ -72,6 +72,10 @@ void write_lattice_vtu(const std::string& path, const Lattice& lattice,
 
   grid.cell_data.push_back(
       io::array_view("bond_class", lattice.bond_class.data(), lattice.num_bonds()));
+  if (lattice.bond_on_edge.size() == lattice.num_bonds()) {
+    grid.cell_data.push_back(
+        io::array_view("bond_on_edge", lattice.bond_on_edge.data(), lattice.num_bonds()));
+  }
 
   io::FieldValue geometry;
   geometry.name = "geometry";

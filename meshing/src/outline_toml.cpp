@@ -2,6 +2,7 @@
 /// Reads outlines from TOML (format: docs/outline-format.md).
 
 #include "hexdem/meshing/outline_toml.hpp"
+#include "hexdem/meshing/outline_toml_table.hpp"
 
 #include <toml++/toml.h>
 
@@ -514,6 +515,11 @@ Outline parse_outline_toml(std::string_view text, const std::string& source_name
                      std::to_string(begin.column) + ": TOML parse error: " + description);
   }
   return Reader(source_name, options).read(root);
+}
+
+Outline outline_from_toml(const toml::table& root, const std::string& source,
+                          const ReadOptions& options) {
+  return Reader(source, options).read(root);
 }
 
 Outline read_outline_toml(const std::string& path, const ReadOptions& options) {

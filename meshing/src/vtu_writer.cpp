@@ -320,8 +320,13 @@ void check_source(const std::string& path, const std::string& group, const Array
 
 void check_grid(const std::string& path, const LineGrid& g) {
   const std::string where = "'" + path + "': ";
-  if (g.num_points != 0 && (g.x == nullptr || g.y == nullptr))
+  if (g.points) {
+    if (g.points->tuples != g.num_points || g.points->components != 3 ||
+        g.points->type != ScalarType::Float64 || !g.points->fill)
+      throw std::invalid_argument(where + "points source must be Float64 x 3 with num_points tuples");
+  } else if (g.num_points != 0 && (g.x == nullptr || g.y == nullptr)) {
     throw std::invalid_argument(where + "points without x or y coordinates");
+  }
   if (g.num_points > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()) + 1)
     throw std::invalid_argument(where + "too many points for Int32 point ids");
   auto check_lines = [&](std::size_t n, const std::int32_t* a, const std::int32_t* b,
@@ -488,7 +493,13 @@ void write_vtu(const std::string& path, const LineGrid& grid, const WriteOptions
   xml += "      </PointData>\n      <CellData>\n";
   for (const auto& a : grid.cell_data) add(from_source(indent, a));
   xml += "      </CellData>\n      <Points>\n";
-  add(from_source(indent, vector_view("Points", grid.x, grid.y, grid.z, grid.num_points)));
+  if (grid.points) {
+    ArraySource p = *grid.points;
+    p.name = "Points";
+    add(from_source(indent, p));
+  } else {
+    add(from_source(indent, vector_view("Points", grid.x, grid.y, grid.z, grid.num_points)));
+  }
   xml += "      </Points>\n      <Cells>\n";
 
   // Connectivity: the point ids are Int32, so Int32 always fits.

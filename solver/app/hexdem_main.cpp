@@ -1,7 +1,8 @@
-// hexdem: the command-line program. Subcommands: mesh.
+// hexdem: the command-line program. Subcommands: mesh, run.
 // Exit codes: 0 success, 1 internal or numerical failure, 2 bad input (one-line message).
 #include <CLI/CLI.hpp>
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -18,6 +19,8 @@
 #include "hexdem/meshing/lattice_vtu.hpp"
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
+#include "hexdem/solver/case_toml.hpp"
+#include "hexdem/solver/output.hpp"
 #include "hexdem/version.hpp"
 
 namespace {
@@ -107,6 +110,24 @@ int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
   return kExitOk;
 }
 
+struct RunArgs {
+  std::string case_file;
+  std::string out_dir;
+  int threads = 0;
+  bool quiet = false;
+};
+
+int run_run(const RunArgs& a) {
+  const solver::Case c = solver::read_case(a.case_file);
+  for (const std::string& w : c.warnings) std::cerr << "hexdem: warning: " << w << "\n";
+  solver::RunOptions ro;
+  ro.out_dir = a.out_dir;
+  ro.threads = a.threads;
+  ro.quiet = a.quiet;
+  ro.progress = !a.quiet && isatty(STDERR_FILENO);
+  return solver::run_case(c, ro);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,6 +151,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 9));
   mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "Print nothing on success");
 
+  RunArgs run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Mesh and run a case file; write a .pvd series, energy and probe CSVs");
+  run_cmd->add_option("case", run.case_file, "Case file (.toml)")->required();
+  run_cmd->add_option("-o,--out", run.out_dir, "Output folder (default: <case name>-output)");
+  run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
+  run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -139,6 +167,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*mesh_cmd) return run_mesh(mesh, *mesh_cmd);
+    if (*run_cmd) return run_run(run);
   } catch (const hexdem::InputError& e) {
     std::cerr << "hexdem: error: " << e.what() << "\n";
     return hexdem::kExitInputError;

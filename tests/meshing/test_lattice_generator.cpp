@@ -147,6 +147,17 @@ TEST(LatticeGenerator, AlignedRectangleExactCounts) {
     for (auto e = lat.set_offset[s]; e < lat.set_offset[s + 1]; ++e) sum += lat.set_length[e];
     EXPECT_NEAR(sum, len[s], 1e-9 * len[s]) << lat.set_names[s];
   }
+  // Left edge x = 0 (across the rows): its set holds the even-row disks on it (distance 0)
+  // and the odd-row disks whose full cells touch it (distance r).
+  const int left = 3;
+  int on_edge = 0, off_edge = 0;
+  for (auto e = lat.set_offset[left]; e < lat.set_offset[left + 1]; ++e) {
+    const double x = lat.x[lat.set_disk[e]];
+    EXPECT_NEAR(lat.set_distance[e], x, 1e-9 * r);
+    (x < 1e-12 ? on_edge : off_edge) += 1;
+  }
+  EXPECT_EQ(on_edge, 4);
+  EXPECT_EQ(off_edge, 3);
   // The top set holds exactly the 11 semi-disks of the top row, normal +y.
   const int top = 2;
   EXPECT_EQ(lat.set_offset[top + 1] - lat.set_offset[top], 11);

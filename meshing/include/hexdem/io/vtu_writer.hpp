@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,9 @@ struct LineGrid {
   const double* x = nullptr;  ///< point coordinates; z may be null (zeros)
   const double* y = nullptr;
   const double* z = nullptr;
+  /// Alternative to x, y, z: the coordinates as a 3-component Float64 source with
+  /// num_points tuples (e.g. reference position plus displacement, computed per block).
+  std::optional<ArraySource> points;
   std::size_t num_lines = 0;
   const std::int32_t* line_i = nullptr;  ///< first point of each line
   const std::int32_t* line_j = nullptr;  ///< second point of each line

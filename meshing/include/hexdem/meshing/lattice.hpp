@@ -33,6 +33,9 @@ struct Lattice {
   // Per bond (pairs of disks of the same body at distance 2r, i < j).
   std::vector<std::int32_t> bond_i, bond_j;
   std::vector<std::uint8_t> bond_class;  ///< 1 along the lattice axis, 2 the other directions
+  std::vector<std::uint8_t> bond_on_edge;  ///< 1 if the bond lies along a neat outline edge
+                                           ///< (between two semi-disks): half its cell is
+                                           ///< outside, so its springs are halved
   std::vector<double> bond_b;            ///< axisymmetric only: bond midpoint distance from
                                          ///< the axis [m]; empty in plane mode
 
@@ -44,6 +47,10 @@ struct Lattice {
   std::vector<std::int32_t> set_disk;    ///< disk index, ascending within a set
   std::vector<double> set_length;        ///< length of the named edges on the disk's cell [m]
   std::vector<double> set_nx, set_ny;    ///< mean outward unit normal of those edges
+  std::vector<double> set_cx, set_cy;    ///< length-weighted mean position of those edges [m]
+                                         ///< (axisymmetric loads act at its radius)
+  std::vector<double> set_distance;      ///< distance of the disk centre from those edges [m];
+                                         ///< boundary conditions hold the members closer than r
 
   std::vector<std::string> body_names;   ///< body index -> name
   std::vector<double> body_region_area;  ///< area of each body's region [m^2] (exact polygon)

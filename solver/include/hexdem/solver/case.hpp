@@ -1,0 +1,108 @@
+#pragma once
+/// \file case.hpp
+/// A simulation case as read from a case file (docs/case-format.md). SI units throughout:
+/// m, s, kg, Pa, N. The Case owns its data; the Outline is meshed by the solver at set-up.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hexdem/meshing/outline.hpp"
+#include "hexdem/solver/material.hpp"
+#include "hexdem/solver/time_function.hpp"
+
+namespace hexdem::solver {
+
+/// Boundary condition on a named boundary set.
+struct BoundaryCondition {
+  enum class Kind {
+    Fixed,     ///< both velocity components zero (and the spin, if fix_rotation)
+    Roller,    ///< one velocity component zero: `component`
+    Symmetry,  ///< mirror plane along x = const or y = const: `component` is the normal one;
+               ///< disks on the plane are rollers with mirror-symmetric local strain, and
+               ///< the bonds that would cross the plane to a disk's own mirror image act as
+               ///< springs to the plane
+    Velocity,  ///< prescribed velocity components, times `function`
+  };
+  Kind kind = Kind::Fixed;
+  std::string set;                  ///< boundary set name (must exist in the lattice)
+  int component = 0;                ///< Roller, Symmetry: 0 = x (r), 1 = y (z)
+  std::array<std::optional<double>, 2> velocity;  ///< Velocity: [m/s], unset = free
+  TimeFunction function;            ///< Velocity: amplitude factor
+  bool fix_rotation = false;        ///< Fixed: also hold the disk spins at zero
+  std::string where;                ///< "case.toml: boundary[2]" for messages
+};
+
+/// Spatial window of a load: only disks whose centre coordinate lies in [min, max].
+struct Window {
+  int axis = 0;       ///< 0 = x (r), 1 = y (z)
+  double min = 0, max = 0;  ///< [m]
+};
+
+/// A load: pressure on a boundary set, or a body force (acceleration) on bodies.
+struct Load {
+  enum class Kind { Pressure, BodyForce };
+  Kind kind = Kind::Pressure;
+  std::string set;                    ///< Pressure: boundary set name
+  double p0 = 0;                      ///< Pressure magnitude [Pa] (compression positive)
+  std::optional<Window> window;       ///< Pressure: optional spatial window (Eq. 21's H(a-|x|))
+  std::array<double, 2> acceleration{0, 0};  ///< BodyForce [m/s^2]
+  std::vector<std::string> bodies;    ///< BodyForce: bodies (empty = all)
+  TimeFunction function;              ///< amplitude factor over time
+  std::string where;
+};
+
+/// Initial velocity of a body (e.g. a projectile).
+struct InitialVelocity {
+  std::string body;
+  std::array<double, 2> velocity{0, 0};  ///< [m/s]
+  std::string where;
+};
+
+/// A probe: time histories of fields at the disk nearest to a point.
+struct Probe {
+  std::string name;
+  std::array<double, 2> point{0, 0};  ///< [m]
+  std::vector<std::string> fields;    ///< any of: displacement, velocity, stress, rotation, spin
+  std::string where;
+};
+
+struct TimeControl {
+  double end = 0;                 ///< end time [s] (> 0)
+  std::optional<double> dt;       ///< user time step [s]; default safety * critical step
+  double safety = 0.9;            ///< fraction of the critical step when dt is not given
+  bool allow_unstable = false;    ///< accept a dt above the critical step (stability study)
+  double mass_damping = 0;        ///< alpha of Eq. 18 [1/s]
+};
+
+struct OutputControl {
+  double interval = 0;            ///< simulated time between frames [s]; 0 = first and last only
+  bool frames = true;             ///< write .vtu frames and the .pvd
+  double probe_interval = 0;      ///< between probe rows [s]; 0 = every step
+  int compression_level = 1;      ///< zlib level of the frames
+};
+
+struct Case {
+  std::string name;               ///< output base name (default: the case file's stem)
+  std::string source;             ///< the case file
+  Geometry geometry = Geometry::PlaneStress;
+  double thickness = 1.0;         ///< plane geometries [m]
+  ShearModel shear_model = ShearModel::LocalStrain;
+
+  meshing::Outline outline;       ///< bodies (radius, angle, origin resolved per body)
+  std::vector<Material> materials;
+  std::vector<BoundaryCondition> boundaries;
+  std::vector<Load> loads;
+  std::vector<InitialVelocity> initial_velocities;
+  std::vector<Probe> probes;
+  TimeControl time;
+  OutputControl output;
+  std::vector<std::string> warnings;  ///< non-fatal reader notes (e.g. DXF entities skipped),
+                                      ///< one line each, for the program to print
+
+  /// The material with this id, or nullptr.
+  [[nodiscard]] const Material* find_material(int id) const;
+};
+
+}  // namespace hexdem::solver

@@ -1,0 +1,72 @@
+#pragma once
+/// \file material.hpp
+/// Elastic materials and the lattice spring constants (physics.md section 3; the paper's
+/// Eqs. 6-14, with the sign of k_s1 corrected). SI units: Pa, kg/m^3, N/m.
+
+#include <optional>
+#include <string>
+
+namespace hexdem::solver {
+
+/// Plane-stress, plane-strain, or axisymmetric (meridian plane, per radian).
+enum class Geometry { PlaneStress, PlaneStrain, Axisymmetric };
+
+/// Name as written to files: "plane-stress", "plane-strain", "axisymmetric".
+const char* geometry_name(Geometry g);
+
+/// The paper's rotation shear model (Eq. 1) or the energy-consistent local-strain model.
+enum class ShearModel { Rotation, LocalStrain };
+const char* shear_model_name(ShearModel m);
+
+/// 2D stiffness in the lattice frame (x = lattice axis) [Pa]:
+/// e = c11 e11^2/2 + c22 e22^2/2 + c12 e11 e22 + 2 c66 e12^2.
+struct Stiffness2D {
+  double c11 = 0, c12 = 0, c22 = 0, c66 = 0;
+};
+
+/// Spring constants per unit thickness [N/m per m = Pa]: class 1 along the lattice axis,
+/// class 2 the other two directions.
+struct SpringConstants {
+  double kn1 = 0, kn2 = 0, ks1 = 0, ks2 = 0;
+};
+
+/// A failed check of Material::validate(): the case-file key at fault and what is wrong.
+struct MaterialIssue {
+  std::string key;      ///< "density", "E", "nu", "c11", "c12", "c22" or "c66"
+  std::string problem;  ///< e.g. "must be > 0 (got -1)"
+};
+
+/// A material as given in a case file.
+struct Material {
+  int id = 1;                ///< referenced by bodies
+  std::string name;          ///< for messages and output
+  double density = 0;        ///< rho [kg/m^3]
+  bool isotropic = true;
+  double E = 0, nu = 0;      ///< isotropic: Young's modulus [Pa], Poisson's ratio [-]
+  Stiffness2D c;             ///< orthotropic: c11, c12, c22, c66 [Pa] in the lattice frame
+
+  /// The 2D stiffness for a geometry: isotropic E, nu become plane-stress or plane-strain
+  /// constants (axisymmetric uses plane strain in the meridian plane); orthotropic c is used
+  /// as given.
+  [[nodiscard]] Stiffness2D stiffness(Geometry g) const;
+
+  /// Lame constants of an isotropic material (3D) [Pa]; used for the hoop term in
+  /// axisymmetric runs (physics.md section 10).
+  [[nodiscard]] double lame_lambda() const;
+  [[nodiscard]] double lame_mu() const;
+
+  /// Checks values (density > 0, E > 0, -1 < nu < 0.5, positive-definite c) and throws
+  /// InputError "<where>: <key>: ... (got <value>)".
+  void validate(const std::string& where) const;
+
+  /// The first check of validate() that fails, or nothing when the values are valid. Lets a
+  /// reader point at the offending key's own line.
+  [[nodiscard]] std::optional<MaterialIssue> check() const;
+};
+
+/// Spring constants from the 2D stiffness (physics.md section 3):
+///   k_n1 = sqrt(3)/6 (3 c11 + 2 c12 - c22), k_n2 = sqrt(3)/3 (c12 + c22),
+///   k_s1 = 2 sqrt(3)/3 (3 c66 - c22),       k_s2 = sqrt(3)/3 (c22 - 3 c12).
+SpringConstants spring_constants(const Stiffness2D& c);
+
+}  // namespace hexdem::solver

@@ -1,0 +1,139 @@
+#pragma once
+/// \file model.hpp
+/// The discrete model in structure-of-arrays form: disks (rigid, with mass and inertia from
+/// their cells), bonds (normal and shear springs), adjacency, and the force kernels of
+/// physics.md sections 2-4 and 10. SI units: m, s, kg, N, Pa, J. In axisymmetric models every
+/// extensive quantity (mass, force, stiffness, energy) is per radian.
+///
+/// Time integration (Eq. 5 / Eq. 18) lives in solver.hpp; this file holds the state and the
+/// kernels that turn displacements into forces.
+
+#include <cstdint>
+#include <vector>
+
+#include "hexdem/meshing/lattice.hpp"
+#include "hexdem/solver/material.hpp"
+
+namespace hexdem::solver {
+
+/// Bond states, as written to the `state` cell array.
+enum class BondState : std::uint8_t {
+  Intact = 0,
+  Yielded = 1,
+  BrokenTension = 2,
+  BrokenShear = 3,
+  BrokenCompression = 4,
+};
+
+/// Per-disk constraint bits.
+enum ConstraintBits : std::uint8_t {
+  kFixX = 1,         ///< velocity x (r) held (zero or prescribed)
+  kFixY = 2,         ///< velocity y (z) held
+  kFixRotation = 4,  ///< spin held at zero
+};
+
+struct Model {
+  Geometry geometry = Geometry::PlaneStress;
+  ShearModel shear_model = ShearModel::LocalStrain;
+  double thickness = 1.0;  ///< plane geometries [m]
+
+  // ---- disks --------------------------------------------------------------------------
+  std::vector<double> x0, y0;          ///< reference centre [m]
+  std::vector<double> ux, uy;          ///< displacement at time t [m]
+  std::vector<double> vx, vy;          ///< velocity at t - dt/2 (leap-frog) [m/s]
+  std::vector<double> theta, omega;    ///< rotation [rad] at t, spin [rad/s] at t - dt/2
+  std::vector<double> fx, fy, torque;  ///< total force [N] and moment [N m] at t
+  std::vector<double> fx_ext, fy_ext;  ///< external part of the force at t [N]
+  std::vector<double> ext_mxx, ext_myy, ext_mxy;  ///< sum sym(x_c (x) F) of the surface loads
+                                                  ///< (x_c: lever arm from the centre) [N m]
+  std::vector<double> mass, inertia;   ///< m = rho A w, I = m r^2 / 2 (w: thickness or b)
+  std::vector<double> radius;          ///< [m]
+  std::vector<double> cell_area;       ///< [m^2]
+  std::vector<double> weight;          ///< w: thickness [m] (plane) or ring radius b [m]
+  std::vector<std::uint8_t> kind;
+  std::vector<std::int32_t> body, material;
+  std::vector<std::uint8_t> constraint;  ///< ConstraintBits
+  std::vector<std::int32_t> initial_bonds;  ///< bonds of each disk in the initial lattice
+  /// Symmetry planes: disks on an axis-aligned mirror plane have no shear strain (their
+  /// local strain and its conjugate are projected on the mirror-symmetric part), and disks
+  /// one radius off it are tied to it by the normal spring of the bond to their mirror image.
+  std::vector<std::uint8_t> mirror_plane;  ///< 1 if the disk lies on a mirror plane
+  std::vector<double> wall_kx, wall_ky;    ///< spring to a mirror plane [N/m]: F = -k u
+  std::vector<double> wall_sx, wall_sy;    ///< +-1: side of the plane (outward normal), 0 none
+
+  // Local strain (physics.md section 4): per disk, the inverse of sum_k a_k a_k^T over the
+  // intact bonds (a_k reference bond vectors), the strain eps, and the conjugate tensor S.
+  std::vector<double> minv_xx, minv_xy, minv_yy;  ///< [1/m^2]; zero if singular
+  std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
+  std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
+  std::vector<double> hoop_lambda, hoop_mu;       ///< axisymmetric: Lame constants [Pa]
+  std::vector<double> nu_zz;  ///< plane strain, isotropic: sigma_zz = nu (sxx + syy); else 0
+  std::vector<double> vx_old, vy_old, omega_old;  ///< velocities at t - 3dt/2 after a step
+
+  // ---- bonds --------------------------------------------------------------------------
+  std::vector<std::int32_t> bi, bj;    ///< disk indices, bi < bj
+  std::vector<double> ax, ay;          ///< reference bond vector x0[j] - x0[i] [m]
+  std::vector<double> rest_length;     ///< |a| [m]
+  std::vector<double> k_n, k_s;        ///< spring stiffness [N/m] (includes w)
+  std::vector<double> f_n, f_s;        ///< normal and shear force [N], tension positive
+  std::vector<double> nx, ny;          ///< current unit vector from bi to bj
+  std::vector<double> u_s;             ///< local-strain shear displacement [m]
+  std::vector<std::uint8_t> state;     ///< BondState
+  std::vector<std::uint8_t> bond_class;
+  std::vector<double> break_time;      ///< [s], -1 while intact
+
+  // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
+  std::vector<std::int64_t> adj_offset;  ///< size num_disks + 1
+  std::vector<std::int32_t> adj_bond;    ///< bond index
+  std::vector<std::int32_t> adj_other;   ///< the other disk
+  std::vector<std::int8_t> adj_sign;     ///< +1 if the disk is the bond's bi, -1 if bj
+
+  mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
+
+  [[nodiscard]] std::size_t num_disks() const { return x0.size(); }
+  [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
+  [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
+};
+
+/// Per-body material choice and spring constants, ready for Model construction.
+struct BodyMaterial {
+  const Material* material = nullptr;
+  SpringConstants springs;  ///< per unit thickness [Pa]
+};
+
+/// Builds the model from a lattice: masses from the cell areas (physics.md section 1, not the
+/// paper's disk mass), springs from section 3 scaled by the thickness or the bond's ring
+/// radius (Eq. 15), adjacency, and the local-strain matrices. `materials[body]` gives each
+/// body's material.
+Model build_model(const meshing::Lattice& lattice, Geometry geometry, double thickness,
+                  ShearModel shear_model, const std::vector<BodyMaterial>& materials);
+
+/// Recomputes the local-strain matrices (inverse of sum a a^T over intact bonds) of all disks.
+void update_strain_matrices(Model& m);
+
+/// Computes internal forces at the current displacements into fx, fy, torque (overwriting),
+/// and the bond forces f_n, f_s. For the rotation model the shear force is incremented by
+/// k_s du_s with the increments dt*v, dt*omega of the last step (Eq. 2); the local-strain
+/// model takes it from the disks' strains. Deterministic: the result does not depend on the
+/// number of threads.
+void compute_internal_forces(Model& m, double dt);
+
+/// Elastic energy stored in the springs (and the hoop term) [J], deterministic.
+double elastic_energy(const Model& m);
+
+/// Love-Weber stress of disk i [Pa]: sigma = 1/(A w) sum sym(x_c (x) f_c), in components
+/// xx, yy, xy, and zz (plane strain isotropic: nu(sxx+syy); axisymmetric: the hoop stress).
+struct Stress {
+  double xx = 0, yy = 0, xy = 0, zz = 0;
+};
+Stress disk_stress(const Model& m, std::size_t i);
+
+/// Sum of f(k) for k in [0, n), in fixed blocks of kSumBlock terms summed in parallel and
+/// then in order, so the result does not depend on the thread count. `scratch` holds the
+/// block sums (grown once, then reused: no allocation per step).
+template <class F>
+double deterministic_sum(std::size_t n, F&& f, std::vector<double>& scratch);
+
+}  // namespace hexdem::solver
+
+#include "hexdem/solver/model_inl.hpp"

@@ -1,0 +1,66 @@
+#pragma once
+/// \file output.hpp
+/// Run output (docs/file-format.md): `DIR/<case>.pvd` with one `.vtu` per frame in
+/// `DIR/<case>/`, `DIR/<case>.energy.csv` (Eq. 25 per output step) and `DIR/<case>.probes.csv`.
+/// Frames and the .pvd are written atomically (temporary name, then rename), so an
+/// interrupted run leaves only complete frames and a .pvd that lists them.
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "hexdem/io/vtu_writer.hpp"
+#include "hexdem/solver/solver.hpp"
+
+namespace hexdem::solver {
+
+class RunOutput {
+public:
+  /// Creates DIR (and DIR/<case>/, emptied of old frames of this case) and opens the CSVs.
+  /// Throws std::runtime_error naming the path if it cannot.
+  RunOutput(const Solver& solver, const std::string& dir);
+
+  /// Writes a frame of the state at t_n (call from Solver::advance's at_tn) and rewrites
+  /// the .pvd.
+  void write_frame(const Solver& solver);
+  /// Appends the energy balance at t_n (requires advance(diagnostics = true)).
+  void write_energy(const Solver& solver);
+  /// Appends one row of probe values at t_n.
+  void write_probes(const Solver& solver);
+
+  [[nodiscard]] const std::string& pvd_path() const { return pvd_path_; }
+  [[nodiscard]] const std::string& energy_path() const { return energy_path_; }
+  [[nodiscard]] const std::string& probes_path() const { return probes_path_; }
+  [[nodiscard]] const std::string& last_frame() const { return last_frame_; }
+  [[nodiscard]] std::size_t frames() const { return pvd_.size(); }
+
+  /// The frame's grid description (exposed for tests of the frame contract).
+  static io::LineGrid frame_grid(const Solver& solver);
+
+private:
+  struct ProbePoint {
+    std::size_t disk;
+    std::vector<std::string> fields;
+  };
+  std::string dir_, frame_dir_, name_;
+  std::string pvd_path_, energy_path_, probes_path_, last_frame_;
+  std::vector<io::PvdEntry> pvd_;
+  std::ofstream energy_, probes_;
+  std::vector<ProbePoint> probe_points_;
+  int compression_level_ = 1;
+};
+
+/// Options of `hexdem run`.
+struct RunOptions {
+  std::string out_dir;     ///< output folder (default: "<case>-output" beside the working dir)
+  int threads = 0;         ///< OpenMP threads (0: the runtime's default)
+  bool progress = false;   ///< a progress line on stderr
+  bool quiet = false;      ///< no summary on stdout
+};
+
+/// Meshes and runs a case. Returns the exit code: 0 on success, 1 on a numerical blow-up
+/// (reported on stderr with the last good frame). Throws InputError on bad input.
+int run_case(const Case& c, const RunOptions& options);
+
+}  // namespace hexdem::solver

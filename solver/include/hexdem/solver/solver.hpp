@@ -1,0 +1,141 @@
+#pragma once
+/// \file solver.hpp
+/// The explicit solver: central differences (leap-frog) with optional mass damping (Eq. 18),
+/// boundary conditions, loads, the stable time step (physics.md section 5) and the energy
+/// balance (section 6, Eq. 25). SI units.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hexdem/meshing/lattice.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/solver/case.hpp"
+#include "hexdem/solver/model.hpp"
+#include "hexdem/solver/stability.hpp"
+
+namespace hexdem::solver {
+
+/// Energy balance at a time t_n [J] (per unit... as the model: J for plane models with their
+/// thickness, J per radian for axisymmetric ones).
+struct EnergyBalance {
+  double kinetic = 0;        ///< 1/2 m v(t-dt/2).v(t+dt/2) + spin, the leap-frog kinetic energy
+  double elastic = 0;        ///< springs and hoop term
+  double external_work = 0;  ///< work of loads and prescribed velocities since t = 0
+  double damping = 0;        ///< energy dissipated by mass damping
+  double initial = 0;        ///< kinetic + elastic energy at t = 0 (e.g. a projectile)
+  /// Eq. 25: input E_in = initial + external work; total E_t = kinetic + elastic + damping.
+  [[nodiscard]] double input() const { return initial + external_work; }
+  [[nodiscard]] double total() const { return kinetic + elastic + damping; }
+  [[nodiscard]] double relative_error() const {
+    return input() != 0 ? (input() - total()) / input() : 0.0;
+  }
+};
+
+/// How the time step was chosen.
+struct TimeStepInfo {
+  double dt = 0;            ///< the step used [s]
+  double dt_critical = 0;   ///< min(dt_bloch, dt_finite) [s]
+  double dt_bloch = 0;      ///< smallest Bloch critical step over the bodies [s]
+  double dt_finite = 0;     ///< 2/omega_max of the finite model (power iteration) [s]
+  double dt_eq24 = 0;       ///< the paper's Eq. 24, for comparison [s]
+  bool user_dt = false;
+};
+
+/// Raised by Solver::advance when the state is no longer finite or the energy has grown far
+/// beyond the input: the numerical blow-up of an unstable step.
+struct BlowUp {
+  std::int64_t step = 0;
+  double time = 0;
+  std::string reason;
+};
+
+class Solver {
+public:
+  /// Builds the model from the lattice (meshed from case.outline), applies initial
+  /// velocities, checks each material's stability (Bloch analysis; an unstable shear model is
+  /// refused with InputError naming the material, the condition and the remedy) and chooses
+  /// the time step (a user dt above the critical step is refused unless allow_unstable).
+  Solver(const Case& c, const meshing::Lattice& lattice);
+
+  /// One step from t_n to t_{n+1}: forces at t_n, velocities to t_{n+1/2}, then (if given)
+  /// `at_tn(*this)` with the state at t_n complete (positions u_n, mid-step velocities, bond
+  /// forces, energy balance if `diagnostics`), then positions to t_{n+1}.
+  /// Returns false, with blow_up() set, when the step found the state non-finite or the
+  /// energy grown beyond ten times the input; the state is then not to be written.
+  bool advance(bool diagnostics, const std::function<void(const Solver&)>& at_tn = {});
+
+  [[nodiscard]] const Model& model() const { return model_; }
+  [[nodiscard]] Model& model() { return model_; }
+  [[nodiscard]] const Case& case_data() const { return case_; }
+  [[nodiscard]] const meshing::Lattice& lattice() const { return lattice_; }
+  [[nodiscard]] double time() const { return time_; }          ///< t_n during at_tn
+  [[nodiscard]] std::int64_t step_index() const { return step_; }
+  [[nodiscard]] const TimeStepInfo& time_step() const { return dt_info_; }
+  [[nodiscard]] double dt() const { return dt_info_.dt; }
+  [[nodiscard]] const EnergyBalance& energy() const { return energy_; }
+  [[nodiscard]] const BlowUp& blow_up() const { return blow_up_; }
+  /// Largest pressure over the loads and the run, p0 * max|f(t)| [Pa]; 0 without pressure.
+  [[nodiscard]] double p_max() const { return p_max_; }
+  /// Velocity of disk i at t_n (mean of the half steps), valid during at_tn.
+  [[nodiscard]] double vx_mid(std::size_t i) const { return 0.5 * (model_.vx_old[i] + model_.vx[i]); }
+  [[nodiscard]] double vy_mid(std::size_t i) const { return 0.5 * (model_.vy_old[i] + model_.vy[i]); }
+  [[nodiscard]] double spin_mid(std::size_t i) const { return 0.5 * (model_.omega_old[i] + model_.omega[i]); }
+  /// Number of steps to reach the case's end time.
+  [[nodiscard]] std::int64_t total_steps() const;
+  /// Per-body Bloch results, in body order.
+  [[nodiscard]] const std::vector<BlochResult>& bloch() const { return bloch_; }
+
+  /// Largest omega^2 of the finite model, M^-1 K, by power iteration with the force kernel
+  /// (for the stable time step). Exposed for tests.
+  [[nodiscard]] double finite_omega2_max(int max_iterations = 300);
+
+private:
+  struct LoadSet {
+    const Load* load;
+    std::vector<std::int32_t> disks;
+    std::vector<double> cx, cy;  ///< force per unit amplitude [N]
+    std::vector<double> lx, ly;  ///< lever arm: load point minus disk centre [m]
+  };
+  struct VelocitySet {
+    const BoundaryCondition* bc;
+    std::vector<std::int32_t> disks;
+  };
+  struct StepSums {  // per-block energy terms of one step
+    double kinetic = 0, ext_a = 0, ext_b = 0, damp_a = 0, damp_b = 0;
+  };
+
+  void setup_materials();
+  void setup_boundaries();
+  void setup_mirror_springs(const BoundaryCondition& bc, int set);
+  void setup_loads();
+  void setup_initial_velocities();
+  void choose_time_step();
+  void apply_external_forces(double t);
+  StepSums update_velocities(double t);
+
+  Case case_;
+  meshing::Lattice lattice_;
+  Model model_;
+  std::vector<BodyMaterial> body_materials_;
+  std::vector<BlochResult> bloch_;
+  std::vector<LoadSet> loads_;
+  std::vector<VelocitySet> velocity_sets_;
+  std::vector<std::int32_t> loaded_disks_;
+  std::vector<StepSums> block_sums_;
+  TimeStepInfo dt_info_;
+  EnergyBalance energy_;
+  BlowUp blow_up_;
+  double time_ = 0;
+  std::int64_t step_ = 0;
+  double p_max_ = 0;
+  double ext_b_before_ = 0, damp_b_before_ = 0;  ///< second halves of the trapezoid sums
+  double ext_a_ = 0, damp_a_ = 0;
+  double initial_energy_ = 0;
+};
+
+/// Meshes a case's outline (per-body radius, angle and origin already resolved).
+meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report = nullptr);
+
+}  // namespace hexdem::solver

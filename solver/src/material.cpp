@@ -1,0 +1,119 @@
+/// \file material.cpp
+/// Elastic materials and the lattice spring constants (physics.md section 3; the paper's
+/// Eqs. 6-14).
+
+#include "hexdem/solver/material.hpp"
+
+#include <charconv>
+#include <cmath>
+
+#include "hexdem/error.hpp"
+
+namespace hexdem::solver {
+namespace {
+
+/// Shortest round-trip rendering of a number for messages.
+std::string format_number(double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+MaterialIssue issue(const char* key, const std::string& problem, double value) {
+  return {key, problem + " (got " + format_number(value) + ")"};
+}
+
+}  // namespace
+
+const char* geometry_name(Geometry g) {
+  switch (g) {
+    case Geometry::PlaneStress:
+      return "plane-stress";
+    case Geometry::PlaneStrain:
+      return "plane-strain";
+    case Geometry::Axisymmetric:
+      return "axisymmetric";
+  }
+  return "unknown";
+}
+
+const char* shear_model_name(ShearModel m) {
+  switch (m) {
+    case ShearModel::Rotation:
+      return "rotation";
+    case ShearModel::LocalStrain:
+      return "local-strain";
+  }
+  return "unknown";
+}
+
+Stiffness2D Material::stiffness(Geometry g) const {
+  if (!isotropic) return c;
+  Stiffness2D s;
+  if (g == Geometry::PlaneStress) {
+    // sigma_zz = 0: c11 = c22 = E / (1 - nu^2), c12 = nu c11.
+    s.c11 = E / (1.0 - nu * nu);
+    s.c12 = nu * s.c11;
+  } else {
+    // eps_zz = 0 (plane strain; the meridian plane of an axisymmetric body): the 3D
+    // constants lambda + 2 mu and lambda.
+    const double f = E / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    s.c11 = f * (1.0 - nu);
+    s.c12 = f * nu;
+  }
+  s.c22 = s.c11;
+  s.c66 = E / (2.0 * (1.0 + nu));
+  return s;
+}
+
+double Material::lame_lambda() const {
+  HEXDEM_VERIFY(isotropic, "Lame constants of orthotropic material '" + name + "'");
+  return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+
+double Material::lame_mu() const {
+  HEXDEM_VERIFY(isotropic, "Lame constants of orthotropic material '" + name + "'");
+  return E / (2.0 * (1.0 + nu));
+}
+
+std::optional<MaterialIssue> Material::check() const {
+  // Written as !(x > 0) so that NaN fails too.
+  if (!(density > 0.0) || !std::isfinite(density))
+    return issue("density", "must be > 0 [kg/m^3]", density);
+  if (isotropic) {
+    if (!(E > 0.0) || !std::isfinite(E)) return issue("E", "must be > 0 [Pa]", E);
+    if (!(nu > -1.0 && nu < 0.5)) return issue("nu", "must lie in (-1, 0.5)", nu);
+    return std::nullopt;
+  }
+  if (!(c.c11 > 0.0) || !std::isfinite(c.c11)) return issue("c11", "must be > 0 [Pa]", c.c11);
+  if (!(c.c22 > 0.0) || !std::isfinite(c.c22)) return issue("c22", "must be > 0 [Pa]", c.c22);
+  if (!(c.c66 > 0.0) || !std::isfinite(c.c66)) return issue("c66", "must be > 0 [Pa]", c.c66);
+  if (!std::isfinite(c.c12)) return issue("c12", "must be finite", c.c12);
+  // Positive-definite strain energy: c11 c22 > c12^2 (with c11, c22, c66 > 0).
+  if (!(c.c11 * c.c22 > c.c12 * c.c12))
+    return issue("c12",
+                 "stiffness is not positive definite: needs c12^2 < c11 c22 = " +
+                     format_number(c.c11 * c.c22),
+                 c.c12);
+  return std::nullopt;
+}
+
+void Material::validate(const std::string& where) const {
+  if (const auto found = check())
+    throw InputError(where + ": " + found->key + ": " + found->problem);
+}
+
+SpringConstants spring_constants(const Stiffness2D& c) {
+  // Equal strain energy of the lattice and the continuum under affine strain (physics.md
+  // section 3, re-deriving Eqs. 6-13; Eq. 14 is the isotropic plane-stress case). The paper
+  // prints k_s1 with the opposite sign.
+  const double sqrt3 = std::sqrt(3.0);
+  SpringConstants k;
+  k.kn1 = sqrt3 / 6.0 * (3.0 * c.c11 + 2.0 * c.c12 - c.c22);
+  k.kn2 = sqrt3 / 3.0 * (c.c12 + c.c22);
+  k.ks1 = 2.0 * sqrt3 / 3.0 * (3.0 * c.c66 - c.c22);
+  k.ks2 = sqrt3 / 3.0 * (c.c22 - 3.0 * c.c12);
+  return k;
+}
+
+}  // namespace hexdem::solver

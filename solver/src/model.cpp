@@ -1,0 +1,131 @@
+// Model construction: masses, springs and adjacency from a lattice.
+// Ref: Liu, Gao, Tanimura (2004), Eqs. 6-15; physics.md sections 1, 3, 4, 10.
+#include "hexdem/solver/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "hexdem/error.hpp"
+
+namespace hexdem::solver {
+
+Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickness,
+                  ShearModel shear_model, const std::vector<BodyMaterial>& materials) {
+  const bool axisym = geometry == Geometry::Axisymmetric;
+  HEXDEM_VERIFY(axisym == (lat.mode == meshing::GeometryMode::Axisymmetric),
+                "lattice and case disagree on axisymmetry");
+  Model m;
+  m.geometry = geometry;
+  m.shear_model = shear_model;
+  m.thickness = thickness;
+
+  const std::size_t n = lat.num_disks();
+  m.x0 = lat.x;
+  m.y0 = lat.y;
+  m.radius = lat.radius;
+  m.cell_area = lat.cell_area;
+  m.kind = lat.kind;
+  m.body = lat.body;
+  m.material = lat.material;
+  for (auto* v : {&m.ux, &m.uy, &m.vx, &m.vy, &m.theta, &m.omega, &m.fx, &m.fy, &m.torque,
+                  &m.fx_ext, &m.fy_ext, &m.ext_mxx, &m.ext_myy, &m.ext_mxy, &m.mass, &m.inertia, &m.weight, &m.minv_xx, &m.minv_xy,
+                  &m.minv_yy, &m.eps_xx, &m.eps_yy, &m.eps_xy, &m.w_xx, &m.w_xy, &m.w_yx, &m.w_yy,
+                  &m.hoop_lambda, &m.hoop_mu, &m.nu_zz, &m.vx_old, &m.vy_old, &m.omega_old, &m.wall_kx, &m.wall_ky, &m.wall_sx, &m.wall_sy}) {
+    v->assign(n, 0.0);
+  }
+  m.constraint.assign(n, 0);
+  m.mirror_plane.assign(n, 0);
+  m.initial_bonds.assign(n, 0);
+
+  // Mass from the cell area (physics.md section 1): m = rho A w, w = thickness (plane) or the
+  // ring radius b of the cell centroid (axisymmetric, per radian); I = m r^2 / 2.
+  for (std::size_t i = 0; i < n; ++i) {
+    const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
+    m.weight[i] = axisym ? lat.cell_cx[i] : thickness;
+    m.mass[i] = bm.material->density * m.cell_area[i] * m.weight[i];
+    m.inertia[i] = 0.5 * m.mass[i] * m.radius[i] * m.radius[i];
+    if (geometry == Geometry::PlaneStrain && bm.material->isotropic) m.nu_zz[i] = bm.material->nu;
+    if (axisym) {
+      m.hoop_lambda[i] = bm.material->lame_lambda();
+      m.hoop_mu[i] = bm.material->lame_mu();
+    }
+  }
+
+  // Bonds: Eqs. 12-14 per unit thickness, times the thickness or, in axisymmetric mode, the
+  // bond midpoint's distance from the axis (Eq. 15).
+  const std::size_t nb = lat.num_bonds();
+  m.bi = lat.bond_i;
+  m.bj = lat.bond_j;
+  m.bond_class = lat.bond_class;
+  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.u_s}) {
+    v->assign(nb, 0.0);
+  }
+  m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
+  m.break_time.assign(nb, -1.0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+    m.ax[b] = m.x0[j] - m.x0[i];
+    m.ay[b] = m.y0[j] - m.y0[i];
+    m.rest_length[b] = std::hypot(m.ax[b], m.ay[b]);
+    m.nx[b] = m.ax[b] / m.rest_length[b];
+    m.ny[b] = m.ay[b] / m.rest_length[b];
+    const SpringConstants& K = materials.at(static_cast<std::size_t>(m.body[i])).springs;
+    // A bond along a neat edge (two semi-disks) has half a bond's area in the region: half
+    // its stiffness, so that the lattice energy under a homogeneous strain is the
+    // continuum's right up to the edge.
+    const double w = (axisym ? lat.bond_b[b] : thickness) * (lat.bond_on_edge[b] ? 0.5 : 1.0);
+    const bool axis_class = m.bond_class[b] == 1;
+    m.k_n[b] = (axis_class ? K.kn1 : K.kn2) * w;
+    m.k_s[b] = (axis_class ? K.ks1 : K.ks2) * w;
+    ++m.initial_bonds[i];
+    ++m.initial_bonds[j];
+  }
+
+  // Adjacency: incident bonds of each disk in ascending bond order (a fixed summation order).
+  m.adj_offset.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + m.initial_bonds[i];
+  m.adj_bond.assign(2 * nb, 0);
+  m.adj_other.assign(2 * nb, 0);
+  m.adj_sign.assign(2 * nb, 0);
+  std::vector<std::int64_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const auto i = m.bi[b], j = m.bj[b];
+    const auto pi = fill[static_cast<std::size_t>(i)]++, pj = fill[static_cast<std::size_t>(j)]++;
+    m.adj_bond[pi] = static_cast<std::int32_t>(b);
+    m.adj_other[pi] = j;
+    m.adj_sign[pi] = 1;
+    m.adj_bond[pj] = static_cast<std::int32_t>(b);
+    m.adj_other[pj] = i;
+    m.adj_sign[pj] = -1;
+  }
+  update_strain_matrices(m);
+  return m;
+}
+
+void update_strain_matrices(Model& m) {
+  const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    double sxx = 0, sxy = 0, syy = 0;
+    for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
+      const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+      if (!m.bond_intact(b)) continue;
+      sxx += m.ax[b] * m.ax[b];
+      sxy += m.ax[b] * m.ay[b];
+      syy += m.ay[b] * m.ay[b];
+    }
+    // A disk with fewer than two independent bonds has no local strain.
+    const double det = sxx * syy - sxy * sxy;
+    const double scale = sxx + syy;
+    if (det > 1e-6 * scale * scale) {
+      m.minv_xx[i] = syy / det;
+      m.minv_yy[i] = sxx / det;
+      m.minv_xy[i] = -sxy / det;
+    } else {
+      m.minv_xx[i] = m.minv_yy[i] = m.minv_xy[i] = 0.0;
+    }
+  }
+}
+
+}  // namespace hexdem::solver

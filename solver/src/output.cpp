@@ -1,0 +1,308 @@
+// Run output: frames (.vtu + .pvd), energy and probe histories (CSV), and the run loop.
+#include "hexdem/solver/output.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <stdexcept>
+
+#include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
+
+namespace hexdem::solver {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string frame_name(const std::string& name, std::int64_t step) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "_%09lld.vtu", static_cast<long long>(step));
+  return name + buf;
+}
+
+void csv_number(std::ostream& o, double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  o << buf;
+}
+
+}  // namespace
+
+io::LineGrid RunOutput::frame_grid(const Solver& solver) {
+  const Model& m = solver.model();
+  const std::size_t n = m.num_disks(), nb = m.num_bonds();
+  io::LineGrid g;
+  g.num_points = n;
+  g.num_lines = nb;
+  g.line_i = m.bi.data();
+  g.line_j = m.bj.data();
+  // Points: current centres (x0 + u). Written through a callback: no copies.
+  g.point_data.clear();
+  auto vec3 = [n](std::string name, auto get) {
+    io::ArraySource a;
+    a.name = std::move(name);
+    a.type = io::ScalarType::Float64;
+    a.components = 3;
+    a.tuples = n;
+    a.fill = [get](std::size_t first, std::size_t count, void* out) {
+      auto* o = static_cast<double*>(out);
+      for (std::size_t k = 0; k < count; ++k) {
+        const auto [x, y] = get(first + k);
+        o[3 * k] = x;
+        o[3 * k + 1] = y;
+        o[3 * k + 2] = 0.0;
+      }
+    };
+    return a;
+  };
+  auto scalar = [n](std::string name, auto get) {
+    io::ArraySource a;
+    a.name = std::move(name);
+    a.type = io::ScalarType::Float64;
+    a.tuples = n;
+    a.fill = [get](std::size_t first, std::size_t count, void* out) {
+      auto* o = static_cast<double*>(out);
+      for (std::size_t k = 0; k < count; ++k) o[k] = get(first + k);
+    };
+    return a;
+  };
+  const Solver* s = &solver;
+  g.points = vec3("Points", [&m](std::size_t i) {
+    return std::pair{m.x0[i] + m.ux[i], m.y0[i] + m.uy[i]};
+  });
+  g.point_data.push_back(io::array_view("radius", m.radius.data(), n));
+  g.point_data.push_back(io::array_view("kind", m.kind.data(), n));
+  g.point_data.push_back(io::array_view("body", m.body.data(), n));
+  g.point_data.push_back(io::array_view("material", m.material.data(), n));
+  g.point_data.push_back(io::array_view("mass", m.mass.data(), n));
+  g.point_data.push_back(io::array_view("cell_area", m.cell_area.data(), n));
+  g.point_data.push_back(vec3("displacement", [&m](std::size_t i) { return std::pair{m.ux[i], m.uy[i]}; }));
+  g.point_data.push_back(vec3("velocity", [s](std::size_t i) { return std::pair{s->vx_mid(i), s->vy_mid(i)}; }));
+  g.point_data.push_back(io::array_view("rotation", m.theta.data(), n));
+  g.point_data.push_back(scalar("spin", [s](std::size_t i) { return s->spin_mid(i); }));
+  {
+    io::ArraySource a;
+    a.name = "stress";
+    a.type = io::ScalarType::Float64;
+    a.components = 9;
+    a.tuples = n;
+    a.fill = [&m](std::size_t first, std::size_t count, void* out) {
+      auto* o = static_cast<double*>(out);
+      for (std::size_t k = 0; k < count; ++k) {
+        const Stress st = disk_stress(m, first + k);
+        double* t = o + 9 * k;
+        t[0] = st.xx; t[1] = st.xy; t[2] = 0;
+        t[3] = st.xy; t[4] = st.yy; t[5] = 0;
+        t[6] = 0;     t[7] = 0;     t[8] = st.zz;
+      }
+    };
+    g.point_data.push_back(std::move(a));
+  }
+  g.point_data.push_back(scalar("damage", [&m](std::size_t i) {
+    if (m.initial_bonds[i] == 0) return 0.0;
+    int broken = 0;
+    for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) broken += !m.bond_intact(m.adj_bond[k]);
+    return static_cast<double>(broken) / m.initial_bonds[i];
+  }));
+  g.cell_data.push_back(io::array_view("state", m.state.data(), nb));
+  g.cell_data.push_back(io::array_view("normal_force", m.f_n.data(), nb));
+  g.cell_data.push_back(io::array_view("shear_force", m.f_s.data(), nb));
+  g.cell_data.push_back(io::array_view("break_time", m.break_time.data(), nb));
+  g.cell_data.push_back(io::array_view("bond_class", m.bond_class.data(), nb));
+  g.field_data.push_back({"time", {solver.time()}, {}, {}});
+  g.field_data.push_back({"step", {static_cast<double>(solver.step_index())}, {}, {}});
+  g.field_data.push_back({"geometry", {}, geometry_name(m.geometry), {}});
+  g.field_data.push_back({"thickness", {m.thickness}, {}, {}});
+  if (solver.p_max() > 0) g.field_data.push_back({"p_max", {solver.p_max()}, {}, {}});
+  return g;
+}
+
+RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
+  const Case& c = solver.case_data();
+  name_ = c.name;
+  compression_level_ = c.output.compression_level;
+  frame_dir_ = (fs::path(dir_) / name_).string();
+  std::error_code ec;
+  fs::create_directories(frame_dir_, ec);
+  if (ec) throw std::runtime_error(frame_dir_ + ": cannot create folder (" + ec.message() + ")");
+  // Old frames of this case would be listed by nobody but could confuse a reader: remove them.
+  for (const auto& e : fs::directory_iterator(frame_dir_)) {
+    const std::string f = e.path().filename().string();
+    if (f.rfind(name_ + "_", 0) == 0 && e.path().extension() == ".vtu") fs::remove(e.path(), ec);
+  }
+  pvd_path_ = (fs::path(dir_) / (name_ + ".pvd")).string();
+  energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
+  probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
+  fs::remove(pvd_path_, ec);
+
+  energy_.open(energy_path_, std::ios::trunc);
+  if (!energy_) throw std::runtime_error(energy_path_ + ": cannot write");
+  energy_ << "time,step,kinetic,elastic,external_work,damping,input,total,relative_error\n";
+
+  fs::remove(probes_path_, ec);
+  if (!c.probes.empty()) {
+    probes_.open(probes_path_, std::ios::trunc);
+    if (!probes_) throw std::runtime_error(probes_path_ + ": cannot write");
+    probes_ << "time,step";
+    const Model& m = solver.model();
+    for (const Probe& p : c.probes) {
+      // The disk nearest to the probe point (reference positions).
+      std::size_t best = 0;
+      double best_d = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < m.num_disks(); ++i) {
+        const double d = std::hypot(m.x0[i] - p.point[0], m.y0[i] - p.point[1]);
+        if (d < best_d) { best_d = d; best = i; }
+      }
+      std::vector<std::string> fields = p.fields;
+      if (fields.empty()) fields = {"displacement", "velocity", "stress", "rotation", "spin"};
+      for (const std::string& f : fields) {
+        if (f == "displacement" || f == "velocity") {
+          probes_ << "," << p.name << "." << f << "_x," << p.name << "." << f << "_y";
+        } else if (f == "stress") {
+          probes_ << "," << p.name << ".stress_xx," << p.name << ".stress_yy," << p.name
+                  << ".stress_xy," << p.name << ".stress_zz";
+        } else {
+          probes_ << "," << p.name << "." << f;
+        }
+      }
+      probe_points_.push_back({best, fields});
+    }
+    probes_ << "\n";
+  }
+}
+
+void RunOutput::write_frame(const Solver& solver) {
+  io::LineGrid g = frame_grid(solver);
+  const std::string file = frame_name(name_, solver.step_index());
+  const std::string path = (fs::path(frame_dir_) / file).string();
+  io::WriteOptions wo;
+  wo.compression_level = compression_level_;
+  io::write_vtu(path, g, wo);
+  pvd_.push_back({solver.time(), name_ + "/" + file});
+  io::write_pvd(pvd_path_, pvd_);
+  last_frame_ = path;
+}
+
+void RunOutput::write_energy(const Solver& solver) {
+  const EnergyBalance& e = solver.energy();
+  csv_number(energy_, solver.time());
+  energy_ << "," << solver.step_index();
+  for (double v : {e.kinetic, e.elastic, e.external_work, e.damping, e.input(), e.total(), e.relative_error()}) {
+    energy_ << ",";
+    csv_number(energy_, v);
+  }
+  energy_ << "\n";
+  energy_.flush();
+}
+
+void RunOutput::write_probes(const Solver& solver) {
+  if (probe_points_.empty()) return;
+  const Model& m = solver.model();
+  csv_number(probes_, solver.time());
+  probes_ << "," << solver.step_index();
+  for (const ProbePoint& p : probe_points_) {
+    const std::size_t i = p.disk;
+    for (const std::string& f : p.fields) {
+      std::vector<double> v;
+      if (f == "displacement") v = {m.ux[i], m.uy[i]};
+      else if (f == "velocity") v = {solver.vx_mid(i), solver.vy_mid(i)};
+      else if (f == "stress") { const Stress s = disk_stress(m, i); v = {s.xx, s.yy, s.xy, s.zz}; }
+      else if (f == "rotation") v = {m.theta[i]};
+      else v = {solver.spin_mid(i)};
+      for (double x : v) {
+        probes_ << ",";
+        csv_number(probes_, x);
+      }
+    }
+  }
+  probes_ << "\n";
+}
+
+int run_case(const Case& c, const RunOptions& options) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  meshing::GeneratorReport mesh_report;
+  const meshing::Lattice lattice = mesh_case(c, &mesh_report);
+  Solver solver(c, lattice);
+  const TimeStepInfo& ts = solver.time_step();
+  const std::string dir = options.out_dir.empty() ? c.name + "-output" : options.out_dir;
+  RunOutput out(solver, dir);
+
+  const std::int64_t steps = solver.total_steps();
+  const double dt = solver.dt();
+  const double frame_dt = c.output.interval;
+  const double probe_dt = c.output.probe_interval;
+  double next_frame = 0.0, next_probe = 0.0;
+  const auto report_interval = std::chrono::milliseconds(500);
+  auto last_report = wall0;
+  if (!options.quiet) {
+    std::printf("hexdem run: %s (%s, %s shear model)\n", c.source.c_str(), geometry_name(c.geometry),
+                shear_model_name(c.shear_model));
+    std::printf("  disks %zu, bonds %zu, bodies %zu\n", lattice.num_disks(), lattice.num_bonds(),
+                lattice.body_names.size());
+    std::printf("  time step %.6g s (%s; critical %.6g s: Bloch %.6g s, finite model %.6g s; Eq. 24 %.6g s)\n",
+                dt, ts.user_dt ? "given" : "safety x critical", ts.dt_critical, ts.dt_bloch, ts.dt_finite,
+                ts.dt_eq24);
+    std::printf("  %lld steps to t = %.6g s, threads %d\n", static_cast<long long>(steps), c.time.end,
+                omp_get_max_threads());
+    std::fflush(stdout);
+  }
+
+  bool ok = true;
+  double max_error = 0;
+  for (std::int64_t n = 0; n <= steps; ++n) {
+    const double t = static_cast<double>(n) * dt;
+    const bool last = n == steps;
+    const bool frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
+    const bool probe = !c.probes.empty() && (n == 0 || last || t >= next_probe - 0.5 * dt);
+    const bool energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
+    const bool check = energy_row || n % 50 == 0;
+    ok = solver.advance(check, [&](const Solver& s) {
+      if (frame) out.write_frame(s);
+      if (energy_row) {
+        out.write_energy(s);
+        if (s.energy().input() > 0) max_error = std::max(max_error, std::abs(s.energy().relative_error()));
+      }
+      if (probe) out.write_probes(s);
+    });
+    if (!ok) break;
+    if (frame_dt > 0) while (next_frame <= t + 0.5 * dt) next_frame += frame_dt;
+    if (probe) while (next_probe <= t + 0.5 * dt) next_probe += (probe_dt > 0 ? probe_dt : dt);
+    if (options.progress) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_report >= report_interval || last) {
+        last_report = now;
+        const double wall = std::chrono::duration<double>(now - wall0).count();
+        const double eta = n > 0 ? wall / static_cast<double>(n) * static_cast<double>(steps - n) : 0.0;
+        std::fprintf(stderr, "\r  step %lld/%lld  t = %.4e s  wall %.1f s  ETA %.1f s   ",
+                     static_cast<long long>(n), static_cast<long long>(steps), t, wall, eta);
+        if (last) std::fprintf(stderr, "\n");
+      }
+    }
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (!ok) {
+    if (options.progress) std::fprintf(stderr, "\n");
+    const BlowUp& b = solver.blow_up();
+    std::fprintf(stderr,
+                 "hexdem: error: numerical blow-up at step %lld (t = %.6g s): %s; dt = %.6g s, critical %.6g s; "
+                 "last good frame: %s\n",
+                 static_cast<long long>(b.step), b.time, b.reason.c_str(), dt, ts.dt_critical,
+                 out.last_frame().empty() ? "none" : out.last_frame().c_str());
+    return kExitFailure;
+  }
+  if (!options.quiet) {
+    std::printf("  done: %zu frames, max |energy error| %.3g, wall %.2f s\n", out.frames(), max_error, wall);
+    std::printf("  series: %s\n  energy: %s\n", out.pvd_path().c_str(), out.energy_path().c_str());
+    if (!c.probes.empty()) std::printf("  probes: %s\n", out.probes_path().c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace hexdem::solver

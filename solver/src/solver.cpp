@@ -1,0 +1,462 @@
+// The explicit time loop: leap-frog central differences with mass damping (Eq. 18), loads
+// (Eqs. 21, 23), boundary conditions, time step (physics.md section 5) and the energy balance
+// (Eq. 25).
+#include "hexdem/solver/solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
+
+namespace hexdem::solver {
+namespace {
+
+constexpr double kSqrt3 = 1.7320508075688772935;
+
+std::string fmt(double v, int precision = 4) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
+  meshing::GeneratorOptions go;
+  go.mode = c.geometry == Geometry::Axisymmetric ? meshing::GeometryMode::Axisymmetric
+                                                 : meshing::GeometryMode::Plane;
+  return meshing::generate_lattice(c.outline, go, report);
+}
+
+Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), lattice_(lattice) {
+  setup_materials();
+  model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
+  setup_boundaries();
+  setup_loads();
+  setup_initial_velocities();
+  choose_time_step();
+}
+
+void Solver::setup_materials() {
+  for (const meshing::BodyOutline& body : case_.outline.bodies) {
+    const Material* mat = case_.find_material(body.material);
+    if (mat == nullptr) {
+      throw InputError(case_.source + ": body '" + body.name + "' uses material " +
+                       std::to_string(body.material) + ", which no [[material]] defines");
+    }
+    BodyMaterial bm;
+    bm.material = mat;
+    const Stiffness2D c = mat->stiffness(case_.geometry);
+    bm.springs = spring_constants(c);
+    body_materials_.push_back(bm);
+
+    // Stability of the chosen shear model for this material (physics.md section 4).
+    const double r = body.radius.value_or(0.0);
+    const BlochResult br = bloch_analysis(bm.springs, mat->density, r, case_.shear_model);
+    bloch_.push_back(br);
+    if (!br.stable) {
+      std::string why = "the Bloch analysis of the lattice finds omega^2 = " + fmt(br.omega2_min) +
+                        " 1/s^2 < 0 (growth e-folding time " + fmt(br.growth_time * 1e6, 3) + " us)";
+      if (case_.shear_model == ShearModel::Rotation && c.c66 < c.c12) {
+        why += "; the necessary condition k_s1 + 2 k_s2 = 2 sqrt(3) (c66 - c12) >= 0 fails (c66 = " +
+               fmt(c.c66 / 1e9) + " GPa < c12 = " + fmt(c.c12 / 1e9) + " GPa)";
+      }
+      throw InputError(case_.source + ": [case] shear_model = \"" + shear_model_name(case_.shear_model) +
+                       "\" is unstable for material '" + mat->name + "' (id " + std::to_string(mat->id) +
+                       ", " + geometry_name(case_.geometry) + "): " + why +
+                       "; remedy: use shear_model = \"local-strain\"");
+    }
+  }
+}
+
+void Solver::setup_boundaries() {
+  const std::size_t n = model_.num_disks();
+  std::vector<std::int32_t> owner(n, -1);  // the velocity set that prescribes each disk
+  for (const BoundaryCondition& bc : case_.boundaries) {
+    const int s = lattice_.find_set(bc.set);
+    if (s < 0) throw InputError(bc.where + ": unknown boundary set '" + bc.set + "'");
+    VelocitySet vs{&bc, {}};
+    for (auto e = lattice_.set_offset[s]; e < lattice_.set_offset[s + 1]; ++e) {
+      const auto i = static_cast<std::size_t>(lattice_.set_disk[e]);
+      // Only disks whose centre is closer than r to the edge are held: on a symmetry plane
+      // that runs across the lattice rows, the disks one radius off it must stay free.
+      if (!(lattice_.set_distance[e] < (1 - 1e-6) * model_.radius[i])) continue;
+      std::uint8_t& bits = model_.constraint[i];
+      switch (bc.kind) {
+        case BoundaryCondition::Kind::Fixed:
+          bits |= kFixX | kFixY;
+          if (bc.fix_rotation) bits |= kFixRotation;
+          break;
+        case BoundaryCondition::Kind::Roller:
+          bits |= bc.component == 0 ? kFixX : kFixY;
+          break;
+        case BoundaryCondition::Kind::Symmetry:
+          bits |= (bc.component == 0 ? kFixX : kFixY) | kFixRotation;
+          if (lattice_.set_distance[e] < 1e-3 * model_.radius[i]) model_.mirror_plane[i] = 1;
+          break;
+        case BoundaryCondition::Kind::Velocity:
+          if (bc.velocity[0]) bits |= kFixX;
+          if (bc.velocity[1]) bits |= kFixY;
+          vs.disks.push_back(static_cast<std::int32_t>(i));
+          owner[i] = static_cast<std::int32_t>(velocity_sets_.size());
+          break;
+      }
+    }
+    if (bc.kind == BoundaryCondition::Kind::Velocity) velocity_sets_.push_back(std::move(vs));
+    if (bc.kind == BoundaryCondition::Kind::Symmetry) setup_mirror_springs(bc, s);
+  }
+  // A disk in several velocity sets takes the last one.
+  for (std::size_t s = 0; s < velocity_sets_.size(); ++s) {
+    auto& d = velocity_sets_[s].disks;
+    d.erase(std::remove_if(d.begin(), d.end(), [&](std::int32_t i) { return owner[i] != static_cast<std::int32_t>(s); }),
+            d.end());
+  }
+}
+
+void Solver::setup_mirror_springs(const BoundaryCondition& bc, int s) {
+  // A mirror plane x = const (component 0) or y = const (component 1). A disk one radius off
+  // the plane, whose lattice has a bond direction along the plane's normal, is bonded to its
+  // own mirror image in the full model: that bond stretches by twice the disk's normal
+  // displacement, so in the half model it is a spring to the plane of stiffness 2 k_n.
+  const int c = bc.component;
+  for (auto e = lattice_.set_offset[s]; e < lattice_.set_offset[s + 1]; ++e) {
+    const auto i = static_cast<std::size_t>(lattice_.set_disk[e]);
+    const double normal = c == 0 ? lattice_.set_nx[e] : lattice_.set_ny[e];
+    if (std::abs(std::abs(normal) - 1.0) > 1e-6) {
+      throw InputError(bc.where + ": symmetry set '" + bc.set + "' must be a straight line " +
+                       (c == 0 ? "x" : "y") + " = const (a member's normal is (" + fmt(lattice_.set_nx[e]) + ", " +
+                       fmt(lattice_.set_ny[e]) + "))");
+    }
+    const double r = model_.radius[i];
+    if (std::abs(lattice_.set_distance[e] - r) > 1e-6 * r) continue;
+    const meshing::BodyOutline& body = case_.outline.bodies[static_cast<std::size_t>(model_.body[i])];
+    const double normal_deg = c == 0 ? 0.0 : 90.0;
+    double rel = std::fmod(normal_deg - body.angle_deg.value_or(0.0), 180.0);
+    if (rel < 0) rel += 180.0;
+    const bool class1 = rel < 1e-6 || rel > 180.0 - 1e-6;
+    const bool class2 = std::abs(rel - 60.0) < 1e-6 || std::abs(rel - 120.0) < 1e-6;
+    if (!class1 && !class2) continue;
+    const SpringConstants& K = body_materials_[static_cast<std::size_t>(model_.body[i])].springs;
+    double w = case_.thickness;
+    if (case_.geometry == Geometry::Axisymmetric) w = c == 0 ? model_.x0[i] + normal * lattice_.set_distance[e] : model_.x0[i];
+    const double k = 2.0 * (class1 ? K.kn1 : K.kn2) * w;
+    (c == 0 ? model_.wall_kx : model_.wall_ky)[i] = k;
+    (c == 0 ? model_.wall_sx : model_.wall_sy)[i] = normal > 0 ? 1.0 : -1.0;
+  }
+}
+
+void Solver::setup_loads() {
+  std::vector<std::uint8_t> loaded(model_.num_disks(), 0);
+  for (const Load& load : case_.loads) {
+    LoadSet ls{&load, {}, {}, {}, {}, {}};
+    if (load.kind == Load::Kind::Pressure) {
+      const int s = lattice_.find_set(load.set);
+      if (s < 0) throw InputError(load.where + ": unknown boundary set '" + load.set + "'");
+      for (auto e = lattice_.set_offset[s]; e < lattice_.set_offset[s + 1]; ++e) {
+        const auto i = static_cast<std::size_t>(lattice_.set_disk[e]);
+        if (load.window) {
+          const double coord = load.window->axis == 0 ? model_.x0[i] : model_.y0[i];
+          if (coord < load.window->min || coord > load.window->max) continue;
+        }
+        // Pressure (compression positive) on the disk's share of the named edges:
+        // F = -p L w n_out, w = thickness or the faces' radius (per radian).
+        const double w = case_.geometry == Geometry::Axisymmetric ? lattice_.set_cx[e] : case_.thickness;
+        const double lw = lattice_.set_length[e] * w;
+        ls.disks.push_back(static_cast<std::int32_t>(i));
+        ls.cx.push_back(-load.p0 * lw * lattice_.set_nx[e]);
+        ls.cy.push_back(-load.p0 * lw * lattice_.set_ny[e]);
+        ls.lx.push_back(lattice_.set_cx[e] - model_.x0[i]);
+        ls.ly.push_back(lattice_.set_cy[e] - model_.y0[i]);
+      }
+      p_max_ = std::max(p_max_, std::abs(load.p0) * load.function.max_abs(case_.time.end));
+    } else {
+      for (std::size_t i = 0; i < model_.num_disks(); ++i) {
+        const std::string& name = lattice_.body_names[model_.body[i]];
+        if (!load.bodies.empty() && std::find(load.bodies.begin(), load.bodies.end(), name) == load.bodies.end()) continue;
+        ls.disks.push_back(static_cast<std::int32_t>(i));
+        ls.cx.push_back(model_.mass[i] * load.acceleration[0]);
+        ls.cy.push_back(model_.mass[i] * load.acceleration[1]);
+        ls.lx.push_back(0.0);
+        ls.ly.push_back(0.0);
+      }
+    }
+    for (std::int32_t i : ls.disks) loaded[i] = 1;
+    loads_.push_back(std::move(ls));
+  }
+  for (std::size_t i = 0; i < loaded.size(); ++i)
+    if (loaded[i]) loaded_disks_.push_back(static_cast<std::int32_t>(i));
+}
+
+void Solver::setup_initial_velocities() {
+  for (const InitialVelocity& iv : case_.initial_velocities) {
+    const auto it = std::find(lattice_.body_names.begin(), lattice_.body_names.end(), iv.body);
+    if (it == lattice_.body_names.end()) throw InputError(iv.where + ": unknown body '" + iv.body + "'");
+    const auto b = static_cast<std::int32_t>(it - lattice_.body_names.begin());
+    for (std::size_t i = 0; i < model_.num_disks(); ++i) {
+      if (model_.body[i] != b) continue;
+      if (!(model_.constraint[i] & kFixX)) model_.vx[i] = iv.velocity[0];
+      if (!(model_.constraint[i] & kFixY)) model_.vy[i] = iv.velocity[1];
+    }
+  }
+}
+
+double Solver::finite_omega2_max(int max_iterations) {
+  Model& m = model_;
+  const std::size_t n = m.num_disks();
+  const bool spins = m.shear_model == ShearModel::Rotation;
+  // Save the state the kernel touches.
+  const auto ux = m.ux, uy = m.uy, th = m.theta, vx = m.vx, vy = m.vy, om = m.omega, fs = m.f_s;
+  std::vector<double> px(n), py(n), pt(n, 0.0);
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    px[i] = (m.constraint[i] & kFixX) ? 0.0 : uni(rng);
+    py[i] = (m.constraint[i] & kFixY) ? 0.0 : uni(rng);
+    if (spins) pt[i] = (m.constraint[i] & kFixRotation) ? 0.0 : uni(rng) / m.radius[i];
+  }
+  double r_min = std::numeric_limits<double>::infinity();
+  for (double r : m.radius) r_min = std::min(r_min, r);
+  double lambda = 0, lambda_prev = 0;
+  int stable_count = 0;
+  for (int it = 0; it < max_iterations; ++it) {
+    // Scale the probe so that displacements are 1e-6 r: the kernel is then linear.
+    double amax = 0;
+    for (std::size_t i = 0; i < n; ++i) amax = std::max({amax, std::abs(px[i]), std::abs(py[i]), std::abs(pt[i]) * m.radius[i]});
+    if (amax == 0) break;
+    const double eps = 1e-6 * r_min / amax;
+    for (std::size_t i = 0; i < n; ++i) {
+      m.ux[i] = eps * px[i];
+      m.uy[i] = eps * py[i];
+      m.theta[i] = eps * pt[i];
+      m.vx[i] = m.ux[i];  // rotation model: the shear increment over a unit "step" is u itself
+      m.vy[i] = m.uy[i];
+      m.omega[i] = m.theta[i];
+    }
+    std::fill(m.f_s.begin(), m.f_s.end(), 0.0);
+    compute_internal_forces(m, 1.0);
+    double xkx = 0, xmx = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double kx = -m.fx[i] / eps, ky = -m.fy[i] / eps, kt = -m.torque[i] / eps;
+      xkx += px[i] * kx + py[i] * ky + pt[i] * kt;
+      xmx += m.mass[i] * (px[i] * px[i] + py[i] * py[i]) + m.inertia[i] * pt[i] * pt[i];
+      px[i] = (m.constraint[i] & kFixX) ? 0.0 : kx / m.mass[i];
+      py[i] = (m.constraint[i] & kFixY) ? 0.0 : ky / m.mass[i];
+      pt[i] = (!spins || (m.constraint[i] & kFixRotation)) ? 0.0 : kt / m.inertia[i];
+    }
+    lambda = xmx > 0 ? xkx / xmx : 0.0;
+    // Keep the iterate normalised (it grows by about omega_max^2 per iteration).
+    double pmax = 0;
+    for (std::size_t i = 0; i < n; ++i) pmax = std::max({pmax, std::abs(px[i]), std::abs(py[i]), std::abs(pt[i]) * m.radius[i]});
+    if (pmax > 0) {
+      for (std::size_t i = 0; i < n; ++i) {
+        px[i] /= pmax;
+        py[i] /= pmax;
+        pt[i] /= pmax;
+      }
+    }
+    if (it > 10 && std::abs(lambda - lambda_prev) < 1e-5 * lambda) {
+      if (++stable_count >= 10) break;
+    } else {
+      stable_count = 0;
+    }
+    lambda_prev = lambda;
+  }
+  m.ux = ux; m.uy = uy; m.theta = th; m.vx = vx; m.vy = vy; m.omega = om; m.f_s = fs;
+  compute_internal_forces(m, 0.0);
+  return lambda;
+}
+
+void Solver::choose_time_step() {
+  TimeStepInfo& info = dt_info_;
+  info.dt_bloch = std::numeric_limits<double>::infinity();
+  info.dt_eq24 = std::numeric_limits<double>::infinity();
+  for (std::size_t b = 0; b < bloch_.size(); ++b) {
+    info.dt_bloch = std::min(info.dt_bloch, bloch_[b].dt_critical);
+    const BodyMaterial& bm = body_materials_[b];
+    info.dt_eq24 = std::min(info.dt_eq24, eq24_time_step(bm.springs, bm.material->density,
+                                                         case_.outline.bodies[b].radius.value_or(0.0)));
+  }
+  // Power iteration converges from below: allow 2 % for what it has not reached.
+  const double w2 = finite_omega2_max();
+  info.dt_finite = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : std::numeric_limits<double>::infinity();
+  info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
+  if (case_.time.dt) {
+    info.user_dt = true;
+    info.dt = *case_.time.dt;
+    if (info.dt > info.dt_critical && !case_.time.allow_unstable) {
+      throw InputError(case_.source + ": [time] dt = " + fmt(info.dt, 6) + " s exceeds the critical time step " +
+                       fmt(info.dt_critical, 6) + " s (Bloch " + fmt(info.dt_bloch, 6) + " s, finite model " +
+                       fmt(info.dt_finite, 6) + " s); lower dt, or set allow_unstable = true to study the instability");
+    }
+  } else {
+    // The largest step below safety x critical that lands exactly on the end time.
+    const double target = case_.time.safety * info.dt_critical;
+    const double steps = std::ceil(case_.time.end / target - 1e-9);
+    info.dt = case_.time.end / steps;
+  }
+}
+
+std::int64_t Solver::total_steps() const {
+  return static_cast<std::int64_t>(std::ceil(case_.time.end / dt_info_.dt - 1e-9));
+}
+
+void Solver::apply_external_forces(double t) {
+  for (std::int32_t i : loaded_disks_) {
+    model_.fx_ext[i] = model_.fy_ext[i] = 0.0;
+    model_.ext_mxx[i] = model_.ext_myy[i] = model_.ext_mxy[i] = 0.0;
+  }
+  for (const LoadSet& ls : loads_) {
+    const double amp = ls.load->function(t);
+    for (std::size_t k = 0; k < ls.disks.size(); ++k) {
+      const auto i = static_cast<std::size_t>(ls.disks[k]);
+      const double fx = amp * ls.cx[k], fy = amp * ls.cy[k];
+      model_.fx_ext[i] += fx;
+      model_.fy_ext[i] += fy;
+      model_.ext_mxx[i] += ls.lx[k] * fx;
+      model_.ext_myy[i] += ls.ly[k] * fy;
+      model_.ext_mxy[i] += 0.5 * (ls.lx[k] * fy + ls.ly[k] * fx);
+    }
+  }
+}
+
+Solver::StepSums Solver::update_velocities(double t) {
+  Model& m = model_;
+  const double dt = dt_info_.dt;
+  const double alpha = case_.time.mass_damping;
+  const double c_old = 1.0 - 0.5 * alpha * dt, c_new = 1.0 / (1.0 + 0.5 * alpha * dt);
+  const std::size_t n = m.num_disks();
+  const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
+  if (block_sums_.size() < blocks) block_sums_.resize(blocks);
+
+  // Eq. 18 for every free degree of freedom; held ones get zero (prescribed values below).
+  // Energy terms per disk (see EnergyBalance): leap-frog kinetic energy, and the trapezoid
+  // work of external and damping forces split into the halves before and after t_n.
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t blk = 0; blk < static_cast<std::ptrdiff_t>(blocks); ++blk) {
+    StepSums s;
+    const std::size_t lo = static_cast<std::size_t>(blk) * kSumBlock, hi = std::min(n, lo + kSumBlock);
+    for (std::size_t i = lo; i < hi; ++i) {
+      const double mass = m.mass[i];
+      const std::uint8_t bits = m.constraint[i];
+      const double vxo = m.vx[i], vyo = m.vy[i], wo = m.omega[i];
+      m.vx_old[i] = vxo;
+      m.vy_old[i] = vyo;
+      m.omega_old[i] = wo;
+      const double fx = m.fx[i] + m.fx_ext[i], fy = m.fy[i] + m.fy_ext[i];
+      const bool free_x = !(bits & kFixX);
+      const bool free_y = !(bits & kFixY);
+      const bool free_w = !(bits & kFixRotation);
+      const double vxn = free_x ? (vxo * c_old + fx / mass * dt) * c_new : 0.0;
+      const double vyn = free_y ? (vyo * c_old + fy / mass * dt) * c_new : 0.0;
+      const double wn = free_w ? (wo * c_old + m.torque[i] / m.inertia[i] * dt) * c_new : 0.0;
+      m.vx[i] = vxn;
+      m.vy[i] = vyn;
+      m.omega[i] = wn;
+      s.kinetic += 0.5 * (mass * (vxo * vxn + vyo * vyn) + m.inertia[i] * wo * wn);
+      if (free_x) {
+        s.ext_a += 0.5 * dt * m.fx_ext[i] * vxo;
+        s.ext_b += 0.5 * dt * m.fx_ext[i] * vxn;
+        const double fd = alpha * mass * 0.5 * (vxo + vxn);  // minus the damping force
+        s.damp_a += 0.5 * dt * fd * vxo;
+        s.damp_b += 0.5 * dt * fd * vxn;
+      }
+      if (free_y) {
+        s.ext_a += 0.5 * dt * m.fy_ext[i] * vyo;
+        s.ext_b += 0.5 * dt * m.fy_ext[i] * vyn;
+        const double fd = alpha * mass * 0.5 * (vyo + vyn);
+        s.damp_a += 0.5 * dt * fd * vyo;
+        s.damp_b += 0.5 * dt * fd * vyn;
+      }
+      if (free_w) {
+        const double fd = alpha * m.inertia[i] * 0.5 * (wo + wn);
+        s.damp_a += 0.5 * dt * fd * wo;
+        s.damp_b += 0.5 * dt * fd * wn;
+      }
+    }
+    block_sums_[static_cast<std::size_t>(blk)] = s;
+  }
+  StepSums total;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    total.kinetic += block_sums_[b].kinetic;
+    total.ext_a += block_sums_[b].ext_a;
+    total.ext_b += block_sums_[b].ext_b;
+    total.damp_a += block_sums_[b].damp_a;
+    total.damp_b += block_sums_[b].damp_b;
+  }
+
+  // Prescribed velocities at t + dt/2; the force that imposes them (reaction plus load) does
+  // work that enters the balance as external work.
+  const double t_half = t + 0.5 * dt;
+  for (const VelocitySet& vs : velocity_sets_) {
+    const double amp = vs.bc->function(t_half);
+    for (std::int32_t i : vs.disks) {
+      const double mass = m.mass[i];
+      for (int c = 0; c < 2; ++c) {
+        if (!vs.bc->velocity[c]) continue;
+        double& v = c == 0 ? m.vx[i] : m.vy[i];
+        const double vo = c == 0 ? m.vx_old[i] : m.vy_old[i];
+        const double f_int = c == 0 ? m.fx[i] : m.fy[i];
+        v = *vs.bc->velocity[c] * amp;
+        const double g = mass * (v - vo) / dt - f_int;
+        total.ext_a += 0.5 * dt * g * vo;
+        total.ext_b += 0.5 * dt * g * v;
+        total.kinetic += 0.5 * mass * vo * v;
+      }
+    }
+  }
+  return total;
+}
+
+bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>& at_tn) {
+  Model& m = model_;
+  const double dt = dt_info_.dt;
+  apply_external_forces(time_);
+  compute_internal_forces(m, step_ > 0 ? dt : 0.0);
+  const StepSums s = update_velocities(time_);
+
+  // Trapezoid sums: the first halves count from step 1 on (the interval before t_0 is none).
+  if (step_ > 0) {
+    ext_a_ += s.ext_a;
+    damp_a_ += s.damp_a;
+  }
+  energy_.kinetic = s.kinetic;
+  energy_.external_work = ext_a_ + ext_b_before_;
+  energy_.damping = damp_a_ + damp_b_before_;
+  if (diagnostics || step_ == 0) energy_.elastic = elastic_energy(m);
+  if (step_ == 0) {
+    initial_energy_ = energy_.kinetic + energy_.elastic;
+  }
+  energy_.initial = initial_energy_;
+
+  const double mech = energy_.kinetic + (diagnostics ? energy_.elastic : 0.0);
+  const double limit = 10.0 * std::max(energy_.input(), 0.0) + 1e-30;
+  if (!std::isfinite(mech) || !std::isfinite(energy_.external_work) || mech > limit) {
+    blow_up_.step = step_;
+    blow_up_.time = time_;
+    blow_up_.reason = !std::isfinite(mech) ? "the state is no longer finite"
+                                           : "the kinetic and elastic energy (" + fmt(mech) +
+                                                 " J) exceed ten times the input (" + fmt(energy_.input()) + " J)";
+    return false;
+  }
+  if (at_tn) at_tn(*this);
+
+  const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    m.ux[i] += dt * m.vx[i];
+    m.uy[i] += dt * m.vy[i];
+    m.theta[i] += dt * m.omega[i];
+  }
+  ext_b_before_ += s.ext_b;
+  damp_b_before_ += s.damp_b;
+  ++step_;
+  time_ = static_cast<double>(step_) * dt;
+  return true;
+}
+
+}  // namespace hexdem::solver
