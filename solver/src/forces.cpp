@@ -23,8 +23,7 @@ void compute_disk_strains(Model& m) {
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = static_cast<std::size_t>(m.adj_bond[k]);
       if (!m.bond_intact(b)) continue;
-      const double s = m.adj_sign[k];
-      const double ax = s * m.ax[b], ay = s * m.ay[b];
+      const double ax = m.adj_ax[k], ay = m.adj_ay[k];
       const auto o = m.adj_other[k];
       const double dux = ux[o] - ux[i], duy = uy[o] - uy[i];
       gxx += dux * ax;
@@ -38,12 +37,6 @@ void compute_disk_strains(Model& m) {
     // On a mirror plane the strain is mirror-symmetric: no shear.
     m.eps_xy[i] = m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy));
   }
-}
-
-/// s . eps . n for the strain of disk i, with s = (-n_y, n_x).
-inline double s_eps_n(const Model& m, std::size_t i, double nx, double ny) {
-  const double sx = -ny, sy = nx;
-  return sx * (m.eps_xx[i] * nx + m.eps_xy[i] * ny) + sy * (m.eps_xy[i] * nx + m.eps_yy[i] * ny);
 }
 
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
@@ -73,8 +66,9 @@ void compute_bond_forces(Model& m, double dt) {
                                 (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
       m.f_s[b] += m.k_s[b] * du_s;
     } else {
-      const double n0x = m.ax[b] / m.rest_length[b], n0y = m.ay[b] / m.rest_length[b];
-      m.u_s[b] = 0.5 * m.rest_length[b] * (s_eps_n(m, i, n0x, n0y) + s_eps_n(m, j, n0x, n0y));
+      // u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j)
+      m.u_s[b] = m.g_xx[b] * (m.eps_xx[i] + m.eps_xx[j]) + m.g_yy[b] * (m.eps_yy[i] + m.eps_yy[j]) +
+                 2.0 * m.g_xy[b] * (m.eps_xy[i] + m.eps_xy[j]);
       m.f_s[b] = m.k_s[b] * m.u_s[b];
     }
   }
@@ -92,12 +86,10 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
         const auto b = static_cast<std::size_t>(m.adj_bond[k]);
         if (!m.bond_intact(b)) continue;
-        const double n0x = m.ax[b] / m.rest_length[b], n0y = m.ay[b] / m.rest_length[b];
-        const double s0x = -n0y, s0y = n0x;
-        const double c = m.f_s[b] * 0.5 * m.rest_length[b];
-        sxx += c * s0x * n0x;
-        syy += c * s0y * n0y;
-        sxy += c * 0.5 * (s0x * n0y + s0y * n0x);
+        const double fs = m.f_s[b];
+        sxx += fs * m.g_xx[b];
+        syy += fs * m.g_yy[b];
+        sxy += fs * m.g_xy[b];
       }
     }
     if (hoop) {
@@ -139,7 +131,7 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
       fy += s * f_y;
       if (strain_terms) {
         const auto o = m.adj_other[k];
-        const double ax = s * m.ax[b], ay = s * m.ay[b];
+        const double ax = m.adj_ax[k], ay = m.adj_ay[k];
         const double wxx = m.w_xx[i] + m.w_xx[o], wxy = m.w_xy[i] + m.w_xy[o];
         const double wyx = m.w_yx[i] + m.w_yx[o], wyy = m.w_yy[i] + m.w_yy[o];
         fx += wxx * ax + wxy * ay;

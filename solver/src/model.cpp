@@ -58,7 +58,8 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.bi = lat.bond_i;
   m.bj = lat.bond_j;
   m.bond_class = lat.bond_class;
-  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.u_s}) {
+  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.u_s,
+                  &m.g_xx, &m.g_yy, &m.g_xy}) {
     v->assign(nb, 0.0);
   }
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
@@ -70,6 +71,10 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.rest_length[b] = std::hypot(m.ax[b], m.ay[b]);
     m.nx[b] = m.ax[b] / m.rest_length[b];
     m.ny[b] = m.ay[b] / m.rest_length[b];
+    const double sx = -m.ny[b], sy = m.nx[b], half = 0.5 * m.rest_length[b];
+    m.g_xx[b] = half * sx * m.nx[b];
+    m.g_yy[b] = half * sy * m.ny[b];
+    m.g_xy[b] = half * 0.5 * (sx * m.ny[b] + sy * m.nx[b]);
     const SpringConstants& K = materials.at(static_cast<std::size_t>(m.body[i])).springs;
     // A bond along a neat edge (two semi-disks) has half a bond's area in the region: half
     // its stiffness, so that the lattice energy under a homogeneous strain is the
@@ -88,6 +93,8 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.adj_bond.assign(2 * nb, 0);
   m.adj_other.assign(2 * nb, 0);
   m.adj_sign.assign(2 * nb, 0);
+  m.adj_ax.assign(2 * nb, 0.0);
+  m.adj_ay.assign(2 * nb, 0.0);
   std::vector<std::int64_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = m.bi[b], j = m.bj[b];
@@ -98,6 +105,10 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.adj_bond[pj] = static_cast<std::int32_t>(b);
     m.adj_other[pj] = i;
     m.adj_sign[pj] = -1;
+    m.adj_ax[pi] = m.ax[b];
+    m.adj_ay[pi] = m.ay[b];
+    m.adj_ax[pj] = -m.ax[b];
+    m.adj_ay[pj] = -m.ay[b];
   }
   update_strain_matrices(m);
   return m;
@@ -111,9 +122,9 @@ void update_strain_matrices(Model& m) {
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = static_cast<std::size_t>(m.adj_bond[k]);
       if (!m.bond_intact(b)) continue;
-      sxx += m.ax[b] * m.ax[b];
-      sxy += m.ax[b] * m.ay[b];
-      syy += m.ay[b] * m.ay[b];
+      sxx += m.adj_ax[k] * m.adj_ax[k];
+      sxy += m.adj_ax[k] * m.adj_ay[k];
+      syy += m.adj_ay[k] * m.adj_ay[k];
     }
     // A disk with fewer than two independent bonds has no local strain.
     const double det = sxx * syy - sxy * sxy;

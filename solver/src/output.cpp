@@ -4,10 +4,12 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <stdexcept>
@@ -209,15 +211,26 @@ void RunOutput::write_probes(const Solver& solver) {
   for (const ProbePoint& p : probe_points_) {
     const std::size_t i = p.disk;
     for (const std::string& f : p.fields) {
-      std::vector<double> v;
-      if (f == "displacement") v = {m.ux[i], m.uy[i]};
-      else if (f == "velocity") v = {solver.vx_mid(i), solver.vy_mid(i)};
-      else if (f == "stress") { const Stress s = disk_stress(m, i); v = {s.xx, s.yy, s.xy, s.zz}; }
-      else if (f == "rotation") v = {m.theta[i]};
-      else v = {solver.spin_mid(i)};
-      for (double x : v) {
+      std::array<double, 4> v{};
+      std::size_t count = 1;
+      if (f == "displacement") {
+        v = {m.ux[i], m.uy[i]};
+        count = 2;
+      } else if (f == "velocity") {
+        v = {solver.vx_mid(i), solver.vy_mid(i)};
+        count = 2;
+      } else if (f == "stress") {
+        const Stress s = disk_stress(m, i);
+        v = {s.xx, s.yy, s.xy, s.zz};
+        count = 4;
+      } else if (f == "rotation") {
+        v[0] = m.theta[i];
+      } else {
+        v[0] = solver.spin_mid(i);
+      }
+      for (std::size_t k = 0; k < count; ++k) {
         probes_ << ",";
-        csv_number(probes_, x);
+        csv_number(probes_, v[k]);
       }
     }
   }
@@ -229,7 +242,10 @@ int run_case(const Case& c, const RunOptions& options) {
   if (options.threads > 0) omp_set_num_threads(options.threads);
   meshing::GeneratorReport mesh_report;
   const meshing::Lattice lattice = mesh_case(c, &mesh_report);
+  const auto wall_mesh = std::chrono::steady_clock::now();
   Solver solver(c, lattice);
+  const auto wall_setup = std::chrono::steady_clock::now();
+  double output_seconds = 0;
   const TimeStepInfo& ts = solver.time_step();
   const std::string dir = options.out_dir.empty() ? c.name + "-output" : options.out_dir;
   RunOutput out(solver, dir);
@@ -256,21 +272,26 @@ int run_case(const Case& c, const RunOptions& options) {
 
   bool ok = true;
   double max_error = 0;
+  bool frame = false, probe = false, energy_row = false;
+  // Built once: a std::function made per step would allocate per step.
+  const std::function<void(const Solver&)> at_tn = [&](const Solver& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (frame) out.write_frame(s);
+    if (energy_row) {
+      out.write_energy(s);
+      if (s.energy().input() > 0) max_error = std::max(max_error, std::abs(s.energy().relative_error()));
+    }
+    if (probe) out.write_probes(s);
+    output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   for (std::int64_t n = 0; n <= steps; ++n) {
     const double t = static_cast<double>(n) * dt;
     const bool last = n == steps;
-    const bool frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
-    const bool probe = !c.probes.empty() && (n == 0 || last || t >= next_probe - 0.5 * dt);
-    const bool energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
+    frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
+    probe = !c.probes.empty() && (n == 0 || last || t >= next_probe - 0.5 * dt);
+    energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
     const bool check = energy_row || n % 50 == 0;
-    ok = solver.advance(check, [&](const Solver& s) {
-      if (frame) out.write_frame(s);
-      if (energy_row) {
-        out.write_energy(s);
-        if (s.energy().input() > 0) max_error = std::max(max_error, std::abs(s.energy().relative_error()));
-      }
-      if (probe) out.write_probes(s);
-    });
+    ok = solver.advance(check, at_tn);
     if (!ok) break;
     if (frame_dt > 0) while (next_frame <= t + 0.5 * dt) next_frame += frame_dt;
     if (probe) while (next_probe <= t + 0.5 * dt) next_probe += (probe_dt > 0 ? probe_dt : dt);
@@ -298,7 +319,11 @@ int run_case(const Case& c, const RunOptions& options) {
     return kExitFailure;
   }
   if (!options.quiet) {
-    std::printf("  done: %zu frames, max |energy error| %.3g, wall %.2f s\n", out.frames(), max_error, wall);
+    const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+    std::printf("  done: %zu frames, max |energy error| %.3g\n", out.frames(), max_error);
+    std::printf("  wall %.2f s: mesh %.2f s, set-up %.2f s, steps %.2f s, output %.2f s\n", wall,
+                secs(wall0, wall_mesh), secs(wall_mesh, wall_setup),
+                wall - secs(wall0, wall_setup) - output_seconds, output_seconds);
     std::printf("  series: %s\n  energy: %s\n", out.pvd_path().c_str(), out.energy_path().c_str());
     if (!c.probes.empty()) std::printf("  probes: %s\n", out.probes_path().c_str());
   }

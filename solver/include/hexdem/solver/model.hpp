@@ -74,6 +74,7 @@ struct Model {
   std::vector<std::int32_t> bi, bj;    ///< disk indices, bi < bj
   std::vector<double> ax, ay;          ///< reference bond vector x0[j] - x0[i] [m]
   std::vector<double> rest_length;     ///< |a| [m]
+  std::vector<double> g_xx, g_yy, g_xy;  ///< (|a|/2) sym(s0 (x) n0): u_s = g : (eps_i + eps_j) [m]
   std::vector<double> k_n, k_s;        ///< spring stiffness [N/m] (includes w)
   std::vector<double> f_n, f_s;        ///< normal and shear force [N], tension positive
   std::vector<double> nx, ny;          ///< current unit vector from bi to bj
@@ -87,6 +88,7 @@ struct Model {
   std::vector<std::int32_t> adj_bond;    ///< bond index
   std::vector<std::int32_t> adj_other;   ///< the other disk
   std::vector<std::int8_t> adj_sign;     ///< +1 if the disk is the bond's bi, -1 if bj
+  std::vector<double> adj_ax, adj_ay;    ///< reference vector to the other disk [m]
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
 

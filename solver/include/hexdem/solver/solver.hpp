@@ -87,9 +87,9 @@ public:
   /// Per-body Bloch results, in body order.
   [[nodiscard]] const std::vector<BlochResult>& bloch() const { return bloch_; }
 
-  /// Largest omega^2 of the finite model, M^-1 K, by power iteration with the force kernel
+  /// Largest omega^2 of the finite model, M^-1 K, by Lanczos iteration with the force kernel
   /// (for the stable time step). Exposed for tests.
-  [[nodiscard]] double finite_omega2_max(int max_iterations = 300);
+  [[nodiscard]] double finite_omega2_max(int max_iterations = 200);
 
 private:
   struct LoadSet {
@@ -103,7 +103,7 @@ private:
     std::vector<std::int32_t> disks;
   };
   struct StepSums {  // per-block energy terms of one step
-    double kinetic = 0, ext_a = 0, ext_b = 0, damp_a = 0, damp_b = 0;
+    double kinetic = 0, kinetic_sq = 0, ext_a = 0, ext_b = 0, damp_a = 0, damp_b = 0;
   };
 
   void setup_materials();
