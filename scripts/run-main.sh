@@ -16,6 +16,8 @@ hexdem=build/release/solver/hexdem
 "$hexdem" mesh cases/halfplane/outline.toml -o "$out/halfplane.vtu"
 "$hexdem" mesh cases/narrow_plate/outline.toml -o "$out/narrow_plate.vtu"
 "$hexdem" mesh cases/warhead/outline.toml --axisymmetric -o "$out/warhead.vtu"
+# An elastic run: the paper's narrow plate under the Eq. 23 ramp (about 2 s).
+"$hexdem" run cases/narrow_plate/case.toml --out "$out"
 
 # xvfb-run -a can lose a race for a display number with another X server starting at the
 # same moment ("bad X server connection"): try again before giving up.
@@ -36,8 +38,9 @@ render "$out/halfplane.vtu" "$out/halfplane_load.png" --color load --zoom 0 -0.0
 cat <<MSG
 
 Done. Lattices and pictures are in $out:
-$(cd "$out" && ls -1 *.vtu *.png | sed 's/^/  /')
+$(cd "$out" && ls -1 *.vtu *.pvd *.csv *.png | sed 's/^/  /')
 Open a lattice in ParaView: paraview $out/warhead.vtu
+Open the narrow plate's time series: paraview $out/narrow_plate.pvd (colour by "stress", component YY)
 (points are disk centres: choose the "Point Gaussian" representation with Scale Array
 "radius"; lines are bonds, coloured by "bond_class").
 MSG

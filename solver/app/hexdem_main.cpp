@@ -1,4 +1,4 @@
-// hexdem: the command-line program. Subcommands: mesh, run.
+// hexdem: the command-line program. Subcommands: mesh, run, post.
 // Exit codes: 0 success, 1 internal or numerical failure, 2 bad input (one-line message).
 #include <CLI/CLI.hpp>
 #include <omp.h>
@@ -19,6 +19,7 @@
 #include "hexdem/meshing/lattice_vtu.hpp"
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
+#include "hexdem/post/post_command.hpp"
 #include "hexdem/solver/case_toml.hpp"
 #include "hexdem/solver/output.hpp"
 #include "hexdem/version.hpp"
@@ -158,6 +159,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
 
+  const hexdem::post::PostCommand post = hexdem::post::add_post_command(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -168,6 +171,7 @@ int main(int argc, char** argv) {
   try {
     if (*mesh_cmd) return run_mesh(mesh, *mesh_cmd);
     if (*run_cmd) return run_run(run);
+    if (*post.cmd) return post.run();
   } catch (const hexdem::InputError& e) {
     std::cerr << "hexdem: error: " << e.what() << "\n";
     return hexdem::kExitInputError;

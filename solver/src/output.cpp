@@ -84,6 +84,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver) {
   g.point_data.push_back(io::array_view("material", m.material.data(), n));
   g.point_data.push_back(io::array_view("mass", m.mass.data(), n));
   g.point_data.push_back(io::array_view("cell_area", m.cell_area.data(), n));
+  if (m.geometry == Geometry::Axisymmetric) g.point_data.push_back(io::array_view("ring_radius", m.weight.data(), n));
   g.point_data.push_back(vec3("displacement", [&m](std::size_t i) { return std::pair{m.ux[i], m.uy[i]}; }));
   g.point_data.push_back(vec3("velocity", [s](std::size_t i) { return std::pair{s->vx_mid(i), s->vy_mid(i)}; }));
   g.point_data.push_back(io::array_view("rotation", m.theta.data(), n));

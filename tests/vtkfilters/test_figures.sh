@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Renders the three figures (maximum shear, cracks, fragments) with pvbatch under xvfb-run on
+# the synthetic frames, as the cases do; checks the PNGs are real pictures, and that a
+# missing input fails with one line naming it and writes no PNG.
+# Usage: test_figures.sh SOURCE_DIR FRAMES_DIR PLUGIN WORK_DIR
+set -euo pipefail
+src=$1 frames=$2 plugin=$3 work=$4
+scripts=$src/vtkfilters/scripts
+mkdir -p "$work"
+rm -f "$work"/*.png
+render() { xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$@" --plugin "$plugin"; }
+check() { /usr/bin/python3 "$src/tests/cli/check_png.py" "$@"; }
+
+render "$scripts/figure_max_shear.py" "$frames/fractured.vtu" "$work/max_shear.png" --range 0 0.1
+render "$scripts/figure_max_shear.py" "$frames/series.pvd" "$work/max_shear_3d.png" --time 1e-5 \
+  --3d --zoom 0 0 0.01 0.008 --size 800 600
+render "$scripts/figure_cracks.py" "$frames/fractured.vtu" "$work/cracks.png"
+render "$scripts/figure_cracks.py" "$frames/fractured.vtu" "$work/cracks_detail.png" \
+  --zoom 0.01 0.05 0.04 0.07 --disks damage --max-break-time 9e-5
+render "$scripts/figure_fragments.py" "$frames/fractured.vtu" "$work/fragments.png"
+render "$scripts/figure_fragments.py" "$frames/series.pvd" "$work/fragments_series.png" --time 2e-5
+check "$work/max_shear.png" 1280 960 20 0.3
+check "$work/max_shear_3d.png" 800 600 10 0.3
+check "$work/cracks.png" 1280 960 5 0.3
+check "$work/cracks_detail.png" 1280 960 5 0.3
+check "$work/fragments.png" 1280 960 8 0.3
+check "$work/fragments_series.png" 1280 960 3 0.3
+
+for script in figure_max_shear figure_cracks figure_fragments; do
+  if render "$scripts/$script.py" "$work/missing.pvd" "$work/missing.png" 2> "$work/err.txt"; then
+    echo "$script: rendering a missing file did not fail"; exit 1
+  fi
+  [ "$(wc -l < "$work/err.txt")" -eq 1 ] || { echo "$script: not one line:"; cat "$work/err.txt"; exit 1; }
+  grep -q "missing.pvd" "$work/err.txt" || { echo "$script: error does not name the file"; exit 1; }
+  [ ! -e "$work/missing.png" ] || { echo "$script: PNG written for a missing input"; exit 1; }
+done
+echo "figure test passed"

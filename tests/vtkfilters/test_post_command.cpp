@@ -1,0 +1,280 @@
+// End-to-end tests of `hexdem post` through a driver with the hexdem program's main(): the
+// files written (.vtu/.vtp, .pvd, .csv) and their contents, frame selection, and bad input
+// (exit code 2, one line on stderr naming the file, nothing on stdout, no output files).
+
+#include <gtest/gtest.h>
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "frame_builder.hpp"
+#include "hexdem/post/post.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using namespace hexdem::testing;
+
+constexpr double kR = 1e-3;
+
+fs::path work_dir(const std::string& sub) {
+  const fs::path dir = fs::path(HEXDEM_TEST_WORK_DIR) / "vtkfilters" / "post" / sub;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+/// Runs the driver with `args` in `dir`.
+Result post(const fs::path& dir, const std::string& args) {
+  const std::string command = "cd '" + dir.string() + "' && '" HEXDEM_POST_DRIVER "' post " + args +
+                              " > stdout.txt 2> stderr.txt";
+  const int status = std::system(command.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(dir / "stdout.txt");
+  r.err = read_text(dir / "stderr.txt");
+  fs::remove(dir / "stdout.txt");
+  fs::remove(dir / "stderr.txt");
+  return r;
+}
+
+/// A 12 x 10 lattice cut in two between rows 4 and 5 (tension) at time t.
+void write_cut_frame(const fs::path& path, double t, bool cut) {
+  const Lattice l = make_lattice(12, 10, kR);
+  FrameData d;
+  d.time = t;
+  d.step = static_cast<int>(std::lround(t * 1e6));
+  d.p_max = 1e6;
+  d.state.assign(l.bonds(), 0);
+  d.break_time.assign(l.bonds(), -1.0);
+  if (cut) {
+    for (auto b : bonds_crossing_y(l, 4.5 * std::sqrt(3.0) * kR)) {
+      d.state[b] = 2;
+      d.break_time[b] = t;
+    }
+  }
+  d.stress.assign(9 * l.disks(), 0.0);
+  for (std::int64_t k = 0; k < l.disks(); ++k) d.stress[9 * k] = 1e5 * k;  // tau = 5e4 k
+  write_frame(path.string(), make_frame(l, d));
+}
+
+/// A 3-frame series: intact at 0, cut at 1e-5 and 2e-5 s.
+fs::path write_series3(const fs::path& dir) {
+  fs::create_directories(dir / "frames");
+  std::vector<std::string> files;
+  std::vector<double> times;
+  for (int f = 0; f < 3; ++f) {
+    const std::string name = "frames/f" + std::to_string(f) + ".vtu";
+    write_cut_frame(dir / name, 1e-5 * f, f > 0);
+    files.push_back(name);
+    times.push_back(1e-5 * f);
+  }
+  write_series((dir / "run.pvd").string(), files, times);
+  return dir / "run.pvd";
+}
+
+TEST(PostCommand, FragmentsOfOneFrameWriteTheFrameAndTheTable) {
+  const fs::path dir = work_dir("fragments");
+  write_cut_frame(dir / "frame.vtu", 3e-5, true);
+  const Result r = post(dir, "fragments frame.vtu -o out");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_NE(r.out.find("2 fragments"), std::string::npos) << r.out;
+  const auto csv = lines(read_text(dir / "out.csv"));
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[0],
+            "fragment_id,disks,mass,area,centroid_x,centroid_y,velocity_x,velocity_y,"
+            "equivalent_diameter");
+  EXPECT_EQ(csv[1].substr(0, 5), "0,60,");  // rows 0-4 (lowest disk 0) tie with rows 5-9
+  EXPECT_EQ(csv[2].substr(0, 5), "1,60,");
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName((dir / "out.vtu").c_str());
+  reader->Update();
+  vtkDataArray* ids = reader->GetOutput()->GetPointData()->GetArray("fragment_id");
+  ASSERT_NE(ids, nullptr);
+  EXPECT_EQ(ids->GetComponent(0, 0), 0);
+  EXPECT_EQ(ids->GetComponent(119, 0), 1);
+  EXPECT_EQ(reader->GetOutput()->GetFieldData()->GetArray("fragment_count")->GetComponent(0, 0), 2);
+}
+
+TEST(PostCommand, CracksOfEveryFrameWriteASeries) {
+  const fs::path dir = work_dir("cracks");
+  write_series3(dir);
+  const Result r = post(dir, "cracks run.pvd --all -o cracks.pvd -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const auto csv = lines(read_text(dir / "cracks.csv"));
+  ASSERT_EQ(csv.size(), 4u);
+  EXPECT_EQ(csv[0].substr(0, 36), "time,step,crack_count,crack_length,c");
+  // 12 + 11 bonds cross between rows 4 and 5, each 2r/sqrt(3) long.
+  char expected[128];
+  std::snprintf(expected, sizeof expected, "1e-05,10,23,%.10g,23,", 23 * 2 * kR / std::sqrt(3.0));
+  EXPECT_EQ(csv[2].substr(0, std::string(expected).size()), expected) << csv[2];
+  EXPECT_EQ(csv[1].substr(0, 10), "0,0,0,0,0,");
+  const std::string pvd = read_text(dir / "cracks.pvd");
+  EXPECT_NE(pvd.find("file=\"cracks_frames/frame_000002.vtp\""), std::string::npos) << pvd;
+  EXPECT_NE(pvd.find("timestep=\"2.0000000000000002e-05\""), std::string::npos) << pvd;
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName((dir / "cracks_frames" / "frame_000001.vtp").c_str());
+  reader->Update();
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), 1);
+  EXPECT_EQ(reader->GetOutput()->GetFieldData()->GetArray("crack_count")->GetComponent(0, 0), 23);
+}
+
+TEST(PostCommand, TimeSelectsTheNearestFrame) {
+  const fs::path dir = work_dir("time");
+  write_series3(dir);
+  Result r = post(dir, "maxshear run.pvd --time 0.4e-5 -o shear");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("frames/f0.vtu"), std::string::npos) << r.out;
+  auto csv = lines(read_text(dir / "shear.csv"));
+  ASSERT_EQ(csv.size(), 2u);
+  EXPECT_EQ(csv[0], "time,step,max_shear_max,x_at_max,y_at_max,max_shear_ratio_max");
+  // tau_max = 5e4 k, largest at the last disk (k = 119): 5.95e6 Pa, ratio 5.95.
+  EXPECT_EQ(csv[1].substr(0, 14), "0,0,5950000,0.");
+  EXPECT_TRUE(csv[1].ends_with(",5.95")) << csv[1];
+  r = post(dir, "cracks run.pvd -t 1.6e-5 --csv-only -o c -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(lines(read_text(dir / "c.csv"))[1].substr(0, 12), "2e-05,20,23,");
+  EXPECT_FALSE(fs::exists(dir / "c.vtp"));
+  r = post(dir, "fragments run.pvd -q");  // default: the last frame, output run_fragments
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "run_fragments.vtu"));
+  EXPECT_EQ(lines(read_text(dir / "run_fragments.csv")).size(), 3u);
+}
+
+TEST(PostCommand, OptionsReachTheFilters) {
+  const fs::path dir = work_dir("options");
+  write_series3(dir);
+  Result r = post(dir, "maxshear run.pvd --p-max 2e6 --3d -o s -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto csv = lines(read_text(dir / "s.csv"));
+  EXPECT_TRUE(csv[0].ends_with(",max_shear_3d_max,max_shear_3d_ratio_max")) << csv[0];
+  EXPECT_NE(csv[1].find(",2.975,"), std::string::npos) << csv[1];
+  // The last frame's bonds broke at 2e-5 s.
+  r = post(dir, "cracks run.pvd --max-break-time 2e-5 --no-merge --csv-only -o c -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto row = lines(read_text(dir / "c.csv"))[1];
+  EXPECT_EQ(row.substr(0, 12), "2e-05,20,23,");
+  EXPECT_TRUE(row.ends_with(",23")) << row;  // one line cell per bond
+  r = post(dir, "cracks run.pvd --max-break-time 1.5e-5 --csv-only -o c -q");
+  EXPECT_EQ(lines(read_text(dir / "c.csv"))[1].substr(0, 11), "2e-05,20,0,");
+  r = post(dir, "fragments run.pvd --min-disks 100 --csv-only -o f -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(lines(read_text(dir / "f.csv")).size(), 1u);  // header only: no fragment >= 100
+}
+
+/// Expects exit code 2, one line on stderr naming `part`, no stdout and no file "out.*".
+void expect_input_error(const fs::path& dir, const std::string& args, const std::string& part) {
+  const Result r = post(dir, args);
+  EXPECT_EQ(r.code, 2) << args;
+  const auto err = lines(r.err);
+  ASSERT_EQ(err.size(), 1u) << args << "\n" << r.err;
+  EXPECT_EQ(err[0].rfind("hexdem: error: ", 0), 0u) << err[0];
+  EXPECT_NE(err[0].find(part), std::string::npos) << err[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  for (const char* ext : {".vtu", ".vtp", ".csv", ".pvd"}) {
+    EXPECT_FALSE(fs::exists(dir / (std::string("out") + ext))) << args << ": out" << ext;
+  }
+}
+
+TEST(PostCommand, BadInputExitsWithOneLine) {
+  const fs::path dir = work_dir("bad");
+  const Lattice l = make_lattice(5, 4, kR);
+  FrameData d;
+  auto frame = make_frame(l, d);
+  frame->GetCellData()->RemoveArray("state");
+  write_frame((dir / "no_state.vtu").string(), frame);
+  frame = make_frame(l, d);
+  frame->GetPointData()->RemoveArray("stress");
+  write_frame((dir / "no_stress.vtu").string(), frame);
+  vtkNew<vtkUnstructuredGrid> empty;
+  write_frame((dir / "empty.vtu").string(), empty);
+  std::ofstream(dir / "garbage.vtu") << "not a VTK file\n";
+  std::ofstream(dir / "garbage.pvd") << "<VTKFile><Collection><DataSet";
+  std::ofstream(dir / "nothing.pvd") << "<VTKFile type=\"Collection\"><Collection/></VTKFile>\n";
+  write_frame((dir / "good.vtu").string(), make_frame(l, d));
+
+  expect_input_error(dir, "cracks no_state.vtu -o out", "no_state.vtu: Bad input");
+  expect_input_error(dir, "fragments no_state.vtu -o out", "'state'");
+  expect_input_error(dir, "maxshear no_stress.vtu --stress array -o out", "'stress'");
+  for (const char* a : {"maxshear", "cracks", "fragments"}) {
+    expect_input_error(dir, std::string(a) + " empty.vtu -o out",
+                       "empty.vtu: the frame has no disks");
+    expect_input_error(dir, std::string(a) + " garbage.vtu -o out", "garbage.vtu: not a VTK XML");
+    expect_input_error(dir, std::string(a) + " missing.pvd -o out", "missing.pvd: no such file");
+  }
+  expect_input_error(dir, "cracks garbage.pvd -o out", "garbage.pvd: not a readable .pvd");
+  expect_input_error(dir, "cracks nothing.pvd -o out", "nothing.pvd: the series lists no frames");
+  expect_input_error(dir, "cracks frame.txt -o out", "frame.txt: no such file");
+  std::ofstream(dir / "frame.txt") << "x";
+  expect_input_error(dir, "cracks frame.txt -o out", "unknown input format '.txt'");
+  expect_input_error(dir, "cracks good.vtu --time 1 -o out", "--time: needs a .pvd series");
+  expect_input_error(dir, "cracks good.vtu -o nowhere/out", "-o: folder 'nowhere' does not exist");
+  expect_input_error(dir, "cracks good.vtu --merge-tolerance 2 -o out", "--merge-tolerance");
+  expect_input_error(dir, "fragments good.vtu --min-disks 0 -o out", "--min-disks");
+  // Command-line parse errors also exit with 2 and name the value.
+  const Result r = post(dir, "maxshear good.vtu --stress sideways -o out");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.vtu"));
+}
+
+TEST(PostLibrary, ReadSeriesSortsFramesAndResolvesPaths) {
+  const fs::path dir = work_dir("series");
+  std::ofstream(dir / "s.pvd") << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\">"
+                                  "<Collection>"
+                                  "<DataSet timestep=\"2e-5\" file=\"b/f2.vtu\"/>"
+                                  "<DataSet timestep=\"0\" file=\"/abs/f0.vtu\"/>"
+                                  "<DataSet timestep=\"1e-5\" part=\"0\" file=\"f1.vtu\"/>"
+                                  "</Collection></VTKFile>\n";
+  const auto frames = hexdem::post::read_series((dir / "s.pvd").string());
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0].path, "/abs/f0.vtu");
+  EXPECT_EQ(frames[1].path, (dir / "f1.vtu").string());
+  EXPECT_EQ(frames[2].path, (dir / "b/f2.vtu").string());
+  EXPECT_EQ(frames[2].time, 2e-5);
+  EXPECT_EQ(hexdem::post::nearest_frame(frames, 0.6e-5), 1u);
+  EXPECT_EQ(hexdem::post::nearest_frame(frames, 0.5e-5), 0u);  // tie: the earlier
+  EXPECT_EQ(hexdem::post::nearest_frame(frames, 1.0), 2u);
+}
+
+}  // namespace

@@ -1,0 +1,78 @@
+/**
+ * @class   vtkHexDEMFragmentCounter
+ * @brief   fragments of a hexdem frame: disks connected by intact bonds
+ *
+ * vtkHexDEMFragmentCounter finds the connected components of the disks of a hexdem result
+ * frame over its intact bonds (cell array `state` 0 or 1); broken bonds (2-4) and contacts
+ * (state 5) do not connect. A disk without intact bonds is a fragment of its own. It uses a
+ * union-find over the bond arrays, linear in the number of bonds.
+ *
+ * Output 0 is the input (shallow copy) with the point array `fragment_id` (Int32): 0 for
+ * the fragment with the most disks, then by decreasing number of disks, ties broken by the
+ * lowest disk index in the fragment. Its field data gains `fragment_count` (fragments with
+ * at least MinimumDisks disks) and `fragment_count_total` (all fragments).
+ *
+ * Output 1 is a vtkTable with one row per counted fragment, in fragment_id order (row k is
+ * fragment k): `fragment_id`, `disks`, `mass` (sum of `mass`, kg, per radian in
+ * axisymmetric frames), `area` (sum of `cell_area`, m^2), `centroid_x`, `centroid_y`
+ * (area-weighted mean of the disk centres, m), `velocity_x`, `velocity_y` (mass-weighted
+ * mean of `velocity`, m/s) and `equivalent_diameter` (2 sqrt(area/pi), m). It carries the
+ * same counts, and `time` and `step` when the frame has them, as field data.
+ *
+ * Fragments with fewer than MinimumDisks disks (default 1: all count) keep their
+ * fragment_id, which is always >= fragment_count since ids follow size, but are neither
+ * counted in `fragment_count` nor listed in the table.
+ *
+ * Only `state` is required. Without `mass`, `cell_area` or `velocity` the columns that need
+ * them are NaN and the filter warns. A missing or malformed `state` array is reported with
+ * vtkErrorMacro and gives empty outputs.
+ */
+
+#ifndef vtkHexDEMFragmentCounter_h
+#define vtkHexDEMFragmentCounter_h
+
+#include "HexDEMFiltersCoreModule.h"  // for export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+class vtkTable;
+
+class HEXDEMFILTERSCORE_EXPORT vtkHexDEMFragmentCounter : public vtkUnstructuredGridAlgorithm {
+ public:
+  static vtkHexDEMFragmentCounter* New();
+  // clang-format off
+  vtkTypeMacro(vtkHexDEMFragmentCounter, vtkUnstructuredGridAlgorithm)  // no ";": it ends with a definition
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+  // clang-format on
+
+  ///@{
+  /**
+   * Smallest number of disks of a fragment that is counted and listed in the table
+   * (default 1: every fragment, single disks included).
+   */
+  vtkSetClampMacro(MinimumDisks, int, 1, VTK_INT_MAX);
+  vtkGetMacro(MinimumDisks, int);
+  ///@}
+
+  /**
+   * The fragment table (output port 1).
+   */
+  vtkTable* GetTableOutput();
+
+ protected:
+  vtkHexDEMFragmentCounter();
+  ~vtkHexDEMFragmentCounter() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+                  vtkInformationVector* outputVector) override;
+
+  int MinimumDisks;
+
+ private:
+  vtkHexDEMFragmentCounter(const vtkHexDEMFragmentCounter&) = delete;
+  void operator=(const vtkHexDEMFragmentCounter&) = delete;
+
+  int Execute(vtkUnstructuredGrid* input, vtkUnstructuredGrid* output, vtkTable* table);
+};
+
+#endif
