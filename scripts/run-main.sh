@@ -16,21 +16,13 @@ hexdem=build/release/solver/hexdem
 "$hexdem" mesh cases/halfplane/outline.toml -o "$out/halfplane.vtu"
 "$hexdem" mesh cases/narrow_plate/outline.toml -o "$out/narrow_plate.vtu"
 "$hexdem" mesh cases/warhead/outline.toml --axisymmetric -o "$out/warhead.vtu"
-# An elastic run: the paper's narrow plate under the Eq. 23 ramp (about 2 s).
+# Elastic runs: the paper's narrow plate under the Eq. 23 ramp, and the half-plane under the
+# Eq. 21 pulse (72,395 disks to t = 104 us), with its tau_max / p_max figure (Fig. 4).
 "$hexdem" run cases/narrow_plate/case.toml --out "$out"
+"$hexdem" run cases/halfplane/case.toml --out "$out"
+cases/halfplane/figures.sh "$out"
 
-# xvfb-run -a can lose a race for a display number with another X server starting at the
-# same moment ("bad X server connection"): try again before giving up.
-render() {
-  local attempt
-  for attempt in 1 2 3; do
-    if xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch scripts/render_lattice.py "$@"; then return 0; fi
-    [ -e "${1:-}" ] || return 1   # a missing input is not worth retrying
-    echo "render: attempt $attempt failed, retrying" >&2
-    sleep 2
-  done
-  return 1
-}
+render() { scripts/pvbatch-xvfb.sh scripts/render_lattice.py "$@"; }
 render "$out/warhead.vtu" "$out/warhead.png" --color body
 render "$out/warhead.vtu" "$out/warhead_detail.png" --color kind --zoom 0 -0.004 0.016 0.016
 render "$out/halfplane.vtu" "$out/halfplane_load.png" --color load --zoom 0 -0.012 0.03 0.001
@@ -40,7 +32,9 @@ cat <<MSG
 Done. Lattices and pictures are in $out:
 $(cd "$out" && ls -1 *.vtu *.pvd *.csv *.png | sed 's/^/  /')
 Open a lattice in ParaView: paraview $out/warhead.vtu
-Open the narrow plate's time series: paraview $out/narrow_plate.pvd (colour by "stress", component YY)
+Open a time series: paraview $out/halfplane.pvd (colour by "stress"; or apply the hexdem
+filters after loading the plugin: Tools > Manage Plugins > Load New >
+$(ls "$PWD"/build/release/lib/paraview-5.11/plugins/HexDEMFilters/HexDEMFilters.so))
 (points are disk centres: choose the "Point Gaussian" representation with Scale Array
 "radius"; lines are bonds, coloured by "bond_class").
 MSG

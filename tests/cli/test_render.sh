@@ -7,18 +7,7 @@ hexdem=$1 src=$2 work=$3
 mkdir -p "$work"
 rm -f "$work"/*.png "$work"/*.vtu
 "$hexdem" mesh "$src/cases/warhead/outline.toml" --axisymmetric -q -o "$work/warhead.vtu"
-# xvfb-run -a can lose a race for a display number with another X server starting at the
-# same moment ("bad X server connection"): try again before giving up.
-render() {
-  local attempt
-  for attempt in 1 2 3; do
-    if xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$src/scripts/render_lattice.py" "$@"; then return 0; fi
-    [ -e "${1:-}" ] || return 1   # a missing input is not worth retrying
-    echo "render: attempt $attempt failed, retrying" >&2
-    sleep 2
-  done
-  return 1
-}
+render() { "$src/scripts/pvbatch-xvfb.sh" "$src/scripts/render_lattice.py" "$@"; }
 render "$work/warhead.vtu" "$work/full.png" --color body
 render "$work/warhead.vtu" "$work/detail.png" --color kind --zoom 0 -0.004 0.016 0.016
 /usr/bin/python3 "$src/tests/cli/check_png.py" "$work/full.png" 1280 960

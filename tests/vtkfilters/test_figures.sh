@@ -8,7 +8,7 @@ src=$1 frames=$2 plugin=$3 work=$4
 scripts=$src/vtkfilters/scripts
 mkdir -p "$work"
 rm -f "$work"/*.png
-render() { xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$@" --plugin "$plugin"; }
+render() { "$src/scripts/pvbatch-xvfb.sh" "$@" --plugin "$plugin"; }
 check() { /usr/bin/python3 "$src/tests/cli/check_png.py" "$@"; }
 
 render "$scripts/figure_max_shear.py" "$frames/fractured.vtu" "$work/max_shear.png" --range 0 0.1

@@ -1,4 +1,4 @@
-// End-to-end tests of `hexdem post` through a driver with the hexdem program's main(): the
+// End-to-end tests of `hexdem post` through the hexdem program: the
 // files written (.vtu/.vtp, .pvd, .csv) and their contents, frame selection, and bad input
 // (exit code 2, one line on stderr naming the file, nothing on stdout, no output files).
 
@@ -62,7 +62,7 @@ struct Result {
   std::string out, err;
 };
 
-/// Runs the driver with `args` in `dir`.
+/// Runs `hexdem post` with `args` in `dir`.
 Result post(const fs::path& dir, const std::string& args) {
   const std::string command = "cd '" + dir.string() + "' && '" HEXDEM_POST_DRIVER "' post " + args +
                               " > stdout.txt 2> stderr.txt";
