@@ -3,6 +3,7 @@
 
 #include "hexdem/meshing/outline_toml.hpp"
 #include "hexdem/meshing/outline_toml_table.hpp"
+#include "hexdem/meshing/toml_values.hpp"
 
 #include <toml++/toml.h>
 
@@ -25,29 +26,9 @@ namespace {
 /// Relative tolerance for "the same point" in a path's closure and an arc's radii.
 constexpr double kRelativeTolerance = 1e-9;
 
-std::string format_number(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
 std::string format_point(Vec2 p) {
   std::string text = "(";
   text.append(format_number(p.x)).append(", ").append(format_number(p.y)).append(")");
-  return text;
-}
-
-/// A short rendering of a TOML value for messages (long arrays and tables are cut).
-std::string describe(const toml::node& node) {
-  if (const auto* i = node.as_integer()) return std::to_string(i->get());
-  if (const auto* f = node.as_floating_point()) return format_number(f->get());
-  if (const auto* s = node.as_string()) return "\"" + s->get() + "\"";
-  std::ostringstream out;
-  node.visit([&](const auto& n) { out << n; });
-  std::string text = out.str();
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  constexpr std::size_t max_length = 60;
-  if (text.size() > max_length) text = text.substr(0, max_length) + "...";
   return text;
 }
 
@@ -65,10 +46,10 @@ Vec2 scaled(Vec2 p, double factor) { return {p.x * factor, p.y * factor}; }
 
 /// One reading of one file. Geometry is built in file units and scaled to metres at the end
 /// of each shape, so that messages quote the numbers as written.
-class Reader {
+class Reader : public TomlValues {
 public:
   Reader(std::string source, const ReadOptions& options)
-      : source_(std::move(source)), options_(options) {}
+      : TomlValues(std::move(source)), options_(options) {}
 
   Outline read(const toml::table& root);
 
@@ -80,20 +61,11 @@ private:
     std::optional<Vec2> origin;
   };
 
-  [[noreturn]] void fail(const toml::source_region& at, const std::string& path,
-                         const std::string& problem) const;
-  [[noreturn]] void fail(const toml::node& at, const std::string& path,
-                         const std::string& problem) const {
-    fail(at.source(), path, problem);
-  }
   void check_keys(const toml::table& table, const std::string& path,
                   std::initializer_list<std::string_view> allowed) const;
   const toml::node& required(const toml::table& table, std::string_view key,
                              const std::string& path) const;
-  double number(const toml::node& node, const std::string& path) const;
-  double positive(const toml::node& node, const std::string& path) const;
   Vec2 point(const toml::node& node, const std::string& path) const;
-  std::string text(const toml::node& node, const std::string& path) const;
   const toml::array& table_array(const toml::node& node, const std::string& path,
                                  std::string_view what) const;
   std::int32_t boundary(const toml::node& node, const std::string& path);
@@ -107,20 +79,10 @@ private:
   Loop read_circle(const toml::table& shape, const std::string& path, double chord_error);
   Loop read_path(const toml::table& shape, const std::string& path, double chord_error);
 
-  std::string source_;
   const ReadOptions& options_;
   double factor_ = 1.0;  ///< metres per file unit
   Outline outline_;
 };
-
-void Reader::fail(const toml::source_region& at, const std::string& path,
-                  const std::string& problem) const {
-  std::string message = source_;
-  if (at.begin.line > 0) message += ":" + std::to_string(at.begin.line);
-  message += ": ";
-  if (!path.empty()) message += path + ": ";
-  throw InputError(message + problem);
-}
 
 void Reader::check_keys(const toml::table& table, const std::string& path,
                         std::initializer_list<std::string_view> allowed) const {
@@ -139,36 +101,11 @@ const toml::node& Reader::required(const toml::table& table, std::string_view ke
   return *node;
 }
 
-double Reader::number(const toml::node& node, const std::string& path) const {
-  double value = 0.0;
-  if (const auto* i = node.as_integer()) {
-    value = static_cast<double>(i->get());
-  } else if (const auto* f = node.as_floating_point()) {
-    value = f->get();
-  } else {
-    fail(node, path, "expected a number (got " + describe(node) + ")");
-  }
-  if (!std::isfinite(value)) fail(node, path, "must be finite (got " + describe(node) + ")");
-  return value;
-}
-
-double Reader::positive(const toml::node& node, const std::string& path) const {
-  const double value = number(node, path);
-  if (value <= 0.0) fail(node, path, "must be > 0 (got " + describe(node) + ")");
-  return value;
-}
-
 Vec2 Reader::point(const toml::node& node, const std::string& path) const {
   const toml::array* array = node.as_array();
   if (array == nullptr || array->size() != 2)
     fail(node, path, "expected a point [x, y] (got " + describe(node) + ")");
   return {number(*array->get(0), path + "[0]"), number(*array->get(1), path + "[1]")};
-}
-
-std::string Reader::text(const toml::node& node, const std::string& path) const {
-  const auto* s = node.as_string();
-  if (s == nullptr) fail(node, path, "expected a string (got " + describe(node) + ")");
-  return s->get();
 }
 
 const toml::array& Reader::table_array(const toml::node& node, const std::string& path,

@@ -28,8 +28,12 @@
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
 #include "hexdem/meshing/outline_toml_table.hpp"
+#include "hexdem/meshing/toml_values.hpp"
 
 namespace hexdem::solver {
+
+using meshing::describe;
+using meshing::format_number;
 
 const Material* Case::find_material(int id) const {
   for (const Material& m : materials)
@@ -38,26 +42,6 @@ const Material* Case::find_material(int id) const {
 }
 
 namespace {
-
-std::string format_number(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
-/// A short one-line rendering of a TOML value for messages (long arrays and tables are cut).
-std::string describe(const toml::node& node) {
-  if (const auto* i = node.as_integer()) return std::to_string(i->get());
-  if (const auto* f = node.as_floating_point()) return format_number(f->get());
-  if (const auto* s = node.as_string()) return "\"" + s->get() + "\"";
-  std::ostringstream out;
-  node.visit([&](const auto& n) { out << n; });
-  std::string text = out.str();
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  constexpr std::size_t max_length = 60;
-  if (text.size() > max_length) text = text.substr(0, max_length) + "...";
-  return text;
-}
 
 /// "a, b, c" in alphabetical order.
 std::string sorted_list(std::vector<std::string> names) {
@@ -106,32 +90,26 @@ template <typename E, std::size_t N>
 using Choices = std::array<std::pair<std::string_view, E>, N>;
 
 /// One reading of one case file.
-class Reader {
+class Reader : public meshing::TomlValues {
  public:
   Reader(std::string source, std::string base_dir)
-      : source_(std::move(source)), base_dir_(std::move(base_dir)) {}
+      : TomlValues(std::move(source)), base_dir_(std::move(base_dir)) {}
 
   Case read(toml::table& root);
 
-  /// Throws InputError "FILE:LINE: PATH: problem".
-  [[noreturn]] void fail(const toml::source_region& at, const std::string& path,
-                         const std::string& problem) const;
-  [[noreturn]] void fail(const toml::node& at, const std::string& path,
-                         const std::string& problem) const {
-    fail(at.source(), path, problem);
-  }
+  using TomlValues::fail;
+  using TomlValues::number;
+  using TomlValues::positive;
+  using TomlValues::text;
   /// "FILE:LINE: PATH" for messages issued after reading (Case::where fields).
   std::string where(const toml::node& at, const std::string& path) const {
     return source_ + ":" + std::to_string(at.source().begin.line) + ": " + path;
   }
 
-  double number(const toml::node& node, const std::string& path) const;
-  double positive(const toml::node& node, const std::string& path) const;
   double non_negative(const toml::node& node, const std::string& path) const;
   std::int64_t integer(const toml::node& node, const std::string& path, std::int64_t lo,
                        std::int64_t hi) const;
   bool boolean(const toml::node& node, const std::string& path) const;
-  std::string text(const toml::node& node, const std::string& path) const;
   std::string name(const toml::node& node, const std::string& path) const;
   std::vector<std::string> names(const toml::node& node, const std::string& path) const;
   std::array<double, 2> vector2(const toml::node& node, const std::string& path) const;
@@ -173,7 +151,6 @@ class Reader {
   void check_body(const Case& c, const std::string& body, const toml::node& at,
                   const std::string& path) const;
 
-  std::string source_;
   std::string base_dir_;
 };
 
@@ -476,34 +453,6 @@ constexpr std::array<Key<TimeFunction>, 2> kTableKeys{{
      }},
 }};
 
-void Reader::fail(const toml::source_region& at, const std::string& path,
-                  const std::string& problem) const {
-  std::string message = source_;
-  if (at.begin.line > 0) message += ":" + std::to_string(at.begin.line);
-  message += ": ";
-  if (!path.empty()) message += path + ": ";
-  throw InputError(message + problem);
-}
-
-double Reader::number(const toml::node& node, const std::string& path) const {
-  double value = 0.0;
-  if (const auto* i = node.as_integer()) {
-    value = static_cast<double>(i->get());
-  } else if (const auto* f = node.as_floating_point()) {
-    value = f->get();
-  } else {
-    fail(node, path, "expected a number (got " + describe(node) + ")");
-  }
-  if (!std::isfinite(value)) fail(node, path, "must be finite (got " + describe(node) + ")");
-  return value;
-}
-
-double Reader::positive(const toml::node& node, const std::string& path) const {
-  const double value = number(node, path);
-  if (!(value > 0.0)) fail(node, path, "must be > 0 (got " + describe(node) + ")");
-  return value;
-}
-
 double Reader::non_negative(const toml::node& node, const std::string& path) const {
   const double value = number(node, path);
   if (!(value >= 0.0)) fail(node, path, "must be >= 0 (got " + describe(node) + ")");
@@ -525,12 +474,6 @@ bool Reader::boolean(const toml::node& node, const std::string& path) const {
   const auto* b = node.as_boolean();
   if (b == nullptr) fail(node, path, "expected true or false (got " + describe(node) + ")");
   return b->get();
-}
-
-std::string Reader::text(const toml::node& node, const std::string& path) const {
-  const auto* s = node.as_string();
-  if (s == nullptr) fail(node, path, "expected a string (got " + describe(node) + ")");
-  return s->get();
 }
 
 std::string Reader::name(const toml::node& node, const std::string& path) const {

@@ -1,0 +1,44 @@
+#pragma once
+/// \file toml_values.hpp
+/// Reading scalar values from parsed TOML with one-line errors "FILE:LINE: PATH: problem
+/// (got VALUE)": shared by the outline reader and the case-file reader.
+
+#include <toml++/toml.h>
+
+#include <string>
+#include <utility>
+
+namespace hexdem::meshing {
+
+/// Shortest decimal text that reads back as `value`.
+std::string format_number(double value);
+
+/// A short one-line rendering of a TOML value for messages (long arrays and tables are cut).
+std::string describe(const toml::node& node);
+
+class TomlValues {
+public:
+  explicit TomlValues(std::string source) : source_(std::move(source)) {}
+
+  /// Throws InputError "FILE:LINE: PATH: problem" (no line when the region has none, no
+  /// path when `path` is empty).
+  [[noreturn]] void fail(const toml::source_region& at, const std::string& path,
+                         const std::string& problem) const;
+  [[noreturn]] void fail(const toml::node& at, const std::string& path,
+                         const std::string& problem) const {
+    fail(at.source(), path, problem);
+  }
+  /// An integer or floating-point value, finite.
+  [[nodiscard]] double number(const toml::node& node, const std::string& path) const;
+  /// A number > 0.
+  [[nodiscard]] double positive(const toml::node& node, const std::string& path) const;
+  /// A string.
+  [[nodiscard]] std::string text(const toml::node& node, const std::string& path) const;
+
+  [[nodiscard]] const std::string& source() const { return source_; }
+
+protected:
+  std::string source_;  ///< the file named in messages
+};
+
+}  // namespace hexdem::meshing
