@@ -1,59 +1,26 @@
 // End-to-end tests of `hexdem mesh`: exit codes, one-line errors naming the file, key or
 // line and value, warnings, and no output file left behind on failure.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
+
+#include "cli_runner.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace hexdem::testing;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+fs::path work_dir() { return test_dir("cli", false); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// A folder per test, so that tests can run in parallel.
-fs::path work_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path d = fs::path(HEXDEM_TEST_WORK_DIR) / "cli" / info->name();
-  fs::create_directories(d);
-  return d;
-}
-
-Result run(const std::string& args) {
-  const fs::path out = work_dir() / "stdout.txt", err = work_dir() / "stderr.txt";
-  const std::string cmd = std::string(HEXDEM_BINARY) + " " + args + " > " + out.string() + " 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
+Result run(const std::string& args) { return run_hexdem(work_dir(), args); }
 
 fs::path write(const std::string& name, const std::string& text) {
   const fs::path p = work_dir() / name;
   std::ofstream(p) << text;
   return p;
-}
-
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
 }
 
 const char* kGood = R"(

@@ -1,54 +1,25 @@
 // End-to-end tests of `hexdem run`: outputs, exit codes (0 ok, 1 numerical blow-up, 2 bad
 // input) and one-line messages.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
+
+#include "cli_runner.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace hexdem::testing;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+fs::path work_dir() { return test_dir("cli_run", true); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path work_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path d = fs::path(HEXDEM_TEST_WORK_DIR) / "cli_run" / info->name();
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-Result run(const fs::path& dir, const std::string& args) {
-  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(HEXDEM_BINARY) + " " + args + " > " + out.string() + " 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
+Result run(const fs::path& dir, const std::string& args) { return run_hexdem(dir, args); }
 
 fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
   std::ofstream(dir / name) << text;
   return dir / name;
-}
-
-int lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
 }
 
 std::string plate_case(const std::string& extra_time) {
@@ -108,18 +79,18 @@ TEST(RunCli, GoodCaseWritesSeriesEnergyAndProbes) {
   EXPECT_EQ(frames, 3);
   const std::string energy = slurp(d / "out" / "plate.energy.csv");
   EXPECT_EQ(energy.rfind("time,step,kinetic,elastic,external_work,damping,input,total,relative_error\n", 0), 0u);
-  EXPECT_GE(lines(energy), 4);
+  EXPECT_GE(count_lines(energy), 4);
   const std::string probes = slurp(d / "out" / "plate.probes.csv");
   EXPECT_NE(probes.find("top.velocity_y"), std::string::npos);
   EXPECT_NE(probes.find("top.stress_yy"), std::string::npos);
-  EXPECT_GT(lines(probes), 10);
+  EXPECT_GT(count_lines(probes), 10);
 }
 
 TEST(RunCli, MissingCaseFile) {
   const fs::path d = work_dir();
   const Result r = run(d, "run " + (d / "none.toml").string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("none.toml"), std::string::npos) << r.err;
 }
 
@@ -130,7 +101,7 @@ TEST(RunCli, UnknownKeyNamesFileLineAndKey) {
   const fs::path c = write(d, "typo.toml", text);
   const Result r = run(d, "run " + c.string() + " --out " + (d / "out").string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("typo.toml:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("densty"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "out" / "plate.pvd"));
@@ -144,7 +115,7 @@ TEST(RunCli, UnstableShearModelIsRefused) {
   const fs::path c = write(d, "unstable.toml", text);
   const Result r = run(d, "run " + c.string() + " --out " + (d / "out").string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("concrete"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("local-strain"), std::string::npos) << r.err;
 }
@@ -154,7 +125,7 @@ TEST(RunCli, BlowUpExitsOneAndKeepsTheLastGoodFrame) {
   const fs::path c = write(d, "blowup.toml", plate_case("dt = 3e-7\nallow_unstable = true"));
   const Result r = run(d, "run " + c.string() + " --out " + (d / "out").string());
   EXPECT_EQ(r.code, 1) << r.out << r.err;
-  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("numerical blow-up"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("last good frame"), std::string::npos) << r.err;
   const std::string pvd = slurp(d / "out" / "plate.pvd");
