@@ -9,7 +9,7 @@ packages=(
   paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth
   libcgal-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev
-  python3-ezdxf clang-format time
+  python3-ezdxf python3-matplotlib clang-format time
 )
 
 missing=()

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/solver/model.hpp"
@@ -86,6 +87,10 @@ Measured measure(const Material& mat, Geometry geometry, ShearModel model) {
 }
 
 void expect_stiffness(const Measured& got, const Stiffness2D& want, double tol) {
+  std::printf("%s: c11 %+.4f %%, c12 %+.4f %% (of c11), c22 %+.4f %%, c66 %+.4f %%, interior force %.2g\n",
+              ::testing::UnitTest::GetInstance()->current_test_info()->name(),
+              100 * (got.c[0] / want.c11 - 1), 100 * (got.c[1] - want.c12) / want.c11,
+              100 * (got.c[2] / want.c22 - 1), 100 * (got.c[3] / want.c66 - 1), got.interior_force);
   EXPECT_NEAR(got.c[0], want.c11, tol * want.c11) << "c11";
   EXPECT_NEAR(got.c[1], want.c12, tol * want.c11) << "c12";
   EXPECT_NEAR(got.c[2], want.c22, tol * want.c22) << "c22";

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -112,7 +113,11 @@ double measure_wave_speed(bool along_x, bool longitudinal) {
   });
   EXPECT_GT(a.time, 0);
   EXPECT_GT(b.time, a.time);
-  return (x2 - x1) / (b.time - a.time);
+  const double speed = (x2 - x1) / (b.time - a.time);
+  std::printf("wave %s along %s: measured %.2f m/s, continuum %.2f m/s (%+.3f %%)\n",
+              longitudinal ? "qP" : "qS", along_x ? "x" : "y", speed, c_expected,
+              100 * (speed / c_expected - 1));
+  return speed;
 }
 
 TEST(WaveSpeed, MaterialBLongitudinalAlongX) { EXPECT_NEAR(measure_wave_speed(true, true), 2024.0, 0.01 * 2024.0); }
@@ -143,6 +148,7 @@ TEST(NarrowPlate, StressAlongTheAxisMatchesBarTheory) {
   }
   EXPECT_GT(count, 150);
   const double l2 = std::sqrt(num2 / den2);
+  std::printf("narrow plate: L2 relative error of sigma_y on the axis at 104 us: %.4f\n", l2);
   EXPECT_LT(l2, 0.03) << "L2 relative error of sigma_y on the axis";
   RecordProperty("l2_error", std::to_string(l2));
 }
@@ -171,6 +177,8 @@ double max_energy_error(Solver& s) {
   run(s, [&](const Solver& sv) {
     if (sv.step_index() > 20) worst = std::max(worst, std::abs(sv.energy().relative_error()));
   }, true);
+  std::printf("%s: largest |relative energy error| %.3g\n",
+              ::testing::UnitTest::GetInstance()->current_test_info()->name(), worst);
   return worst;
 }
 
@@ -325,6 +333,8 @@ TEST(Axisymmetric, LameCylinderUnderInternalPressure) {
     worst_s = std::max({worst_s, std::abs(srr / n - k * (1 - b * b / (rr * rr))) / p,
                         std::abs(stt / n - k * (1 + b * b / (rr * rr))) / p});
   }
+  std::printf("Lame cylinder: worst u_r error %.4f (bound r/a = %.4f), band stress error %.4f p\n", worst_u,
+              r / a, worst_s);
   EXPECT_LT(worst_s, 0.01) << "radial and hoop stress against Lame's solution, relative to p";
 }
 
