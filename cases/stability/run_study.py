@@ -37,7 +37,7 @@ def run(hexdem, out_dir, dt, end, tag):
         next(f)
         for line in f:
             v = line.strip().split(",")
-            rows.append((float(v[0]), float(v[8])))
+            rows.append((float(v[0]), float(v[12])))
     return p.returncode == 0, p.stdout, p.stderr, rows
 
 

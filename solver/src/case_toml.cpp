@@ -178,9 +178,9 @@ constexpr std::array<std::string_view, 5> kProbeFields{"displacement", "velocity
 
 // The keys of every table. The generic lambdas convert to Key::read for their record type.
 
-constexpr std::array<std::string_view, 12> kTopLevelKeys{
+constexpr std::array<std::string_view, 13> kTopLevelKeys{
     "case", "mesh",   "material", "boundary", "load",    "initial_velocity",
-    "time", "output", "probe",    "units",    "lattice", "body"};
+    "time", "output", "probe",    "units",    "lattice", "body", "contact"};
 /// Top-level keys of an inline outline (docs/outline-format.md).
 constexpr std::array<std::string_view, 3> kOutlineKeys{"units", "lattice", "body"};
 
@@ -231,7 +231,7 @@ constexpr std::array<Key<MeshSettings>, 5> kMeshKeys{{
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
-constexpr std::array<Key<Material>, 9> kMaterialKeys{{
+constexpr std::array<Key<Material>, 17> kMaterialKeys{{
     {"id", true,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.id = static_cast<int>(in.integer(v, p, 0, INT_MAX));
@@ -252,7 +252,25 @@ constexpr std::array<Key<Material>, 9> kMaterialKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.c.c22 = in.number(v, p); }},
     {"c66", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.c.c66 = in.number(v, p); }},
+    {"yield_stress", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.yield_stress = in.number(v, p); }},
+    {"tangent_modulus", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.tangent_modulus = in.number(v, p); }},
+    {"tensile_strength", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.tensile_strength = in.number(v, p); }},
+    {"compressive_strength", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.compressive_strength = in.number(v, p); }},
+    {"cohesion", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.cohesion = in.number(v, p); }},
+    {"friction_angle", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.friction_angle = in.number(v, p); }},
+    {"rate_dependent", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.rate_dependent = in.boolean(v, p); }},
+    {"friction", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.friction = in.number(v, p); }},
 }};
+constexpr std::array<std::string_view, 4> kFailureKeys{"tensile_strength", "compressive_strength", "cohesion",
+                                                       "friction_angle"};
 constexpr std::array<std::string_view, 2> kIsotropicKeys{"E", "nu"};
 constexpr std::array<std::string_view, 4> kOrthotropicKeys{"c11", "c12", "c22", "c66"};
 
@@ -380,6 +398,14 @@ constexpr std::array<Key<OutputControl>, 4> kOutputKeys{{
     {"compression_level", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.compression_level = static_cast<int>(in.integer(v, p, 0, 9));
+     }},
+}};
+
+constexpr std::array<Key<ContactControl>, 1> kContactKeys{{
+    {"damping", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) {
+       o.damping = in.non_negative(v, p);
+       if (!(o.damping < 1.0)) in.fail(v, p, "must lie in [0, 1) (fraction of critical damping, got " + describe(v) + ")");
      }},
 }};
 
@@ -710,6 +736,11 @@ void Reader::read_materials(const toml::table& root, Case& c) const {
     else
       require(kOrthotropicKeys, "orthotropic");
     if (m.name.empty()) m.name = "material-" + std::to_string(m.id);
+    // Failure needs all of its strengths; plasticity needs both of its keys.
+    m.breakable = given(kFailureKeys);
+    if (m.breakable) require(kFailureKeys, "breakable");
+    if (t.contains("yield_stress") != t.contains("tangent_modulus"))
+      fail(t, path, "give both yield_stress and tangent_modulus (plasticity) or neither");
 
     if (const auto problem = m.check())
       fail(*t.get(problem->key), child(path, problem->key), problem->problem);
@@ -831,6 +862,8 @@ void Reader::read_time(const toml::table& root, Case& c) const {
 void Reader::read_output(const toml::table& root, Case& c) const {
   if (const toml::node* node = root.get("output"))
     read_keys(table(*node, "output"), "output", Keys<OutputControl>(kOutputKeys), c.output);
+  if (const toml::node* node = root.get("contact"))
+    read_keys(table(*node, "contact"), "contact", Keys<ContactControl>(kContactKeys), c.contact);
 }
 
 void Reader::read_probes(const toml::table& root, Case& c) const {

@@ -4,54 +4,72 @@
 //
 // All passes are gathers over a fixed adjacency order or independent per-bond updates, so the
 // forces are bit-identical whatever the number of OpenMP threads.
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "hexdem/solver/model.hpp"
+
+#include "hexdem/laws/bilinear_kinematic.hpp"
+#include "hexdem/laws/contact.hpp"
 
 namespace hexdem::solver {
 namespace {
 
 /// Pass A: least-squares strain of each disk over its intact bonds,
 /// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
+void disk_strain(Model& m, std::size_t i) {
+  double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
+  for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
+    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    if (!m.bond_intact(b)) continue;
+    const double ax = m.adj_ax[k], ay = m.adj_ay[k];
+    const auto o = m.adj_other[k];
+    const double dux = m.ux[o] - m.ux[i], duy = m.uy[o] - m.uy[i];
+    gxx += dux * ax;
+    gxy += dux * ay;
+    gyx += duy * ax;
+    gyy += duy * ay;
+  }
+  const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
+  m.eps_xx[i] = gxx * mxx + gxy * mxy;
+  m.eps_yy[i] = gyx * mxy + gyy * myy;
+  // On a mirror plane the strain is mirror-symmetric: no shear.
+  m.eps_xy[i] = m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy));
+}
+
 void compute_disk_strains(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  const double* ux = m.ux.data();
-  const double* uy = m.uy.data();
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
-    for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-      const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-      if (!m.bond_intact(b)) continue;
-      const double ax = m.adj_ax[k], ay = m.adj_ay[k];
-      const auto o = m.adj_other[k];
-      const double dux = ux[o] - ux[i], duy = uy[o] - uy[i];
-      gxx += dux * ax;
-      gxy += dux * ay;
-      gyx += duy * ax;
-      gyy += duy * ay;
-    }
-    const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
-    m.eps_xx[i] = gxx * mxx + gxy * mxy;
-    m.eps_yy[i] = gyx * mxy + gyy * myy;
-    // On a mirror plane the strain is mirror-symmetric: no shear.
-    m.eps_xy[i] = m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy));
-  }
+  for (std::ptrdiff_t i = 0; i < n; ++i) disk_strain(m, static_cast<std::size_t>(i));
+}
+
+/// u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j) of bond b (local-strain model).
+inline double local_shear(const Model& m, std::size_t b) {
+  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+  return m.g_xx[b] * (m.eps_xx[i] + m.eps_xx[j]) + m.g_yy[b] * (m.eps_yy[i] + m.eps_yy[j]) +
+         2.0 * m.g_xy[b] * (m.eps_xy[i] + m.eps_xy[j]);
+}
+
+double hoop_energy(const Model& m, std::size_t i) {
+  const double eps_tt = m.ux[i] / m.weight[i];
+  const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
+  return m.cell_area[i] * m.weight[i] *
+         ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * (m.eps_xx[i] + m.eps_yy[i]));
 }
 
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
 /// Shear, rotation model (Eq. 1-2): f_s += k_s [(du_j - du_i).s - (r_i dtheta_i + r_j dtheta_j)]
 /// with the increments of the last step. Shear, local-strain model: u_s = d s.(eps_i+eps_j)/2.n
 /// in the reference directions, f_s = k_s u_s.
+/// Plastic bonds (Eq. 16) take the same increments through the bilinear kinematic law;
+/// breakable bonds are checked against Eqs. 17, 19, 20 and, once broken (state II), act as
+/// contacts: compression only, Coulomb friction, a dashpot at a fraction of critical damping.
 void compute_bond_forces(Model& m, double dt) {
   const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
   const bool rotation = m.shear_model == ShearModel::Rotation;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
-    if (!m.bond_intact(static_cast<std::size_t>(b))) {
-      m.f_n[b] = m.f_s[b] = 0.0;
-      continue;
-    }
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
     const double dx = m.ax[b] + (m.ux[j] - m.ux[i]);
     const double dy = m.ay[b] + (m.uy[j] - m.uy[i]);
@@ -59,17 +77,86 @@ void compute_bond_forces(Model& m, double dt) {
     const double nx = dx / len, ny = dy / len;
     m.nx[b] = nx;
     m.ny[b] = ny;
-    m.f_n[b] = m.k_n[b] * (len - m.rest_length[b]);
+    const double sx = -ny, sy = nx;
+    if (!m.bond_intact(static_cast<std::size_t>(b))) {
+      // State II: a contact between the two disks, with their spins (physics.md section 8).
+      const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
+      const double delta = m.radius[i] + m.radius[j] - len;
+      const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+      const double k_t = m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b];
+      const laws::LinearContact law{m.k_n[b], k_t, m.mu[b], m.contact_damping};
+      const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
+      laws::ContactState cs{m.f_n[b], m.f_s[b]};
+      const laws::ContactStep st = law.update(cs, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
+      m.f_n[b] = cs.f_n;
+      m.f_s[b] = cs.f_s;
+      m.contact_damping_work[b] += st.damping_power * dt;
+      m.friction_work[b] += st.friction_dissipation;
+      m.len_prev[b] = len;
+      continue;
+    }
+    const double du_n = len - m.len_prev[b];
+    double du_s = 0.0;
     if (rotation) {
-      const double sx = -ny, sy = nx;
-      const double du_s = dt * ((m.vx[j] - m.vx[i]) * sx + (m.vy[j] - m.vy[i]) * sy -
-                                (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-      m.f_s[b] += m.k_s[b] * du_s;
+      du_s = dt * ((m.vx[j] - m.vx[i]) * sx + (m.vy[j] - m.vy[i]) * sy -
+                   (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
     } else {
-      // u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j)
-      m.u_s[b] = m.g_xx[b] * (m.eps_xx[i] + m.eps_xx[j]) + m.g_yy[b] * (m.eps_yy[i] + m.eps_yy[j]) +
-                 2.0 * m.g_xy[b] * (m.eps_xy[i] + m.eps_xy[j]);
-      m.f_s[b] = m.k_s[b] * m.u_s[b];
+      const double u_s = local_shear(m, static_cast<std::size_t>(b));
+      du_s = u_s - m.u_s[b];
+      m.u_s[b] = u_s;
+    }
+    if (m.f_yield[b] > 0) {
+      // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
+      laws::BilinearState sn{m.f_n[b], m.alpha_n[b]};
+      const laws::BilinearKinematic normal{m.k_n[b], m.kh_n[b], m.f_yield[b]};
+      double work = normal.update(sn, du_n).dissipation_trapezoid;
+      m.f_n[b] = sn.f;
+      m.alpha_n[b] = sn.alpha;
+      if (m.k_s[b] > 0) {
+        laws::BilinearState ss{m.f_s[b], m.alpha_s[b]};
+        const laws::BilinearKinematic shear{m.k_s[b], m.kh_s[b], m.f_yield[b]};
+        work += shear.update(ss, du_s).dissipation_trapezoid;
+        m.f_s[b] = ss.f;
+        m.alpha_s[b] = ss.alpha;
+      } else {
+        m.f_s[b] += m.k_s[b] * du_s;
+      }
+      m.plastic_work[b] += work;
+      if (m.alpha_n[b] != 0.0 || m.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+    } else {
+      m.f_n[b] = m.k_n[b] * (len - m.rest_length[b]);
+      m.f_s[b] = rotation ? m.f_s[b] + m.k_s[b] * du_s : m.k_s[b] * m.u_s[b];
+    }
+    m.len_prev[b] = len;
+    if (m.failure_law[b] >= 0) {
+      // Eqs. 17, 19, 20: strain rate of the bond from its stretch over the last step.
+      const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+      const laws::FailureMode mode =
+          m.failure_laws[static_cast<std::size_t>(m.failure_law[b])].check(m.f_n[b], m.f_s[b], m.section[b], edot);
+      if (mode != laws::FailureMode::None) {
+        // The stored energy of the bond is released (it enters the balance as fracture).
+        double e = 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b];
+        if (m.k_s[b] != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+        if (m.f_yield[b] > 0) {
+          const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
+          if (hn > 0) e += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
+          if (m.k_s[b] > 0) {
+            const double hs = m.k_s[b] * m.kh_s[b] / (m.k_s[b] - m.kh_s[b]);
+            if (hs > 0) e += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
+          }
+        }
+        // Leap-frog's kinetic energy at t_n already contains half a step of the force the bond
+        // would have applied: removing it now also removes dt/2 v(t-dt/2).F from it.
+        const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
+        e -= 0.5 * dt * (dvx * (m.f_n[b] * nx + m.f_s[b] * sx) + dvy * (m.f_n[b] * ny + m.f_s[b] * sy));
+        if (rotation) e += 0.5 * dt * (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]) * m.f_s[b];
+        m.fracture_energy[b] += e;
+        m.state[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
+        m.break_time[b] = m.time;
+        m.f_n[b] = m.f_s[b] = m.alpha_n[b] = m.alpha_s[b] = 0.0;
+        m.u_s[b] = 0.0;
+        m.newly_broken[b] = 1;
+      }
     }
   }
 }
@@ -118,10 +205,18 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
     double fx = 0, fy = 0, tq = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-      if (!m.bond_intact(b)) continue;
       const double s = m.adj_sign[k];
       const double nx = m.nx[b], ny = m.ny[b];
       double f_x = m.f_n[b] * nx, f_y = m.f_n[b] * ny;
+      if (!m.bond_intact(b)) {
+        // A broken bond in contact: pair force with friction and its moment.
+        f_x -= m.f_s[b] * ny;
+        f_y += m.f_s[b] * nx;
+        fx += s * f_x;
+        fy += s * f_y;
+        tq += m.radius[i] * m.f_s[b];
+        continue;
+      }
       if (pair_shear) {
         f_x -= m.f_s[b] * ny;
         f_y += m.f_s[b] * nx;
@@ -162,16 +257,23 @@ void compute_internal_forces(Model& m, double dt) {
 }
 
 double elastic_energy(const Model& m) {
-  const bool local = m.shear_model == ShearModel::LocalStrain;
   double e = deterministic_sum(
       m.num_bonds(),
       [&](std::size_t b) {
-        if (!m.bond_intact(b)) return 0.0;
         double eb = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
-        if (local) {
-          eb += 0.5 * m.k_s[b] * m.u_s[b] * m.u_s[b];
-        } else if (m.k_s[b] != 0) {
-          eb += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+        if (!m.bond_intact(b)) {  // contact spring (its tangential stiffness, see above)
+          const double k_t = m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b];
+          return eb + 0.5 * m.f_s[b] * m.f_s[b] / k_t;
+        }
+        if (m.k_s[b] != 0) eb += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+        if (m.f_yield[b] > 0) {
+          // Locked-in energy of the hardening springs, alpha^2 / (2H), H = k k_h / (k - k_h).
+          const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
+          if (hn > 0) eb += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
+          if (m.k_s[b] > 0) {
+            const double hs = m.k_s[b] * m.kh_s[b] / (m.k_s[b] - m.kh_s[b]);
+            if (hs > 0) eb += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
+          }
         }
         return eb;
       },
@@ -183,15 +285,66 @@ double elastic_energy(const Model& m) {
   if (m.geometry == Geometry::Axisymmetric) {
     e += deterministic_sum(
         m.num_disks(),
-        [&](std::size_t i) {
-          const double eps_tt = m.ux[i] / m.weight[i];
-          const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
-          return m.cell_area[i] * m.weight[i] *
-                 ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * (m.eps_xx[i] + m.eps_yy[i]));
-        },
+        [&](std::size_t i) { return hoop_energy(m, i); },
         m.scratch);
   }
   return e;
+}
+
+BondDissipation bond_dissipation(const Model& m) {
+  BondDissipation d;
+  const std::size_t nb = m.num_bonds();
+  d.plastic = deterministic_sum(nb, [&](std::size_t b) { return m.plastic_work[b]; }, m.scratch);
+  d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.fracture_energy[b]; }, m.scratch);
+  d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work[b]; }, m.scratch);
+  d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.friction_work[b]; }, m.scratch);
+  return d;
+}
+
+std::size_t settle_broken_bonds(Model& m) {
+  const bool strains = m.shear_model == ShearModel::LocalStrain || m.geometry == Geometry::Axisymmetric;
+  std::size_t broken = 0;
+  std::array<std::size_t, 64> touched{};  // intact bonds whose shear depends on the two disks
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    if (!m.newly_broken[b]) continue;
+    m.newly_broken[b] = 0;
+    ++broken;
+    const std::array<std::size_t, 2> disks{static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b])};
+    if (!strains) continue;
+    // The two disks lose a neighbour: their least-squares strain changes at once, and with it
+    // the local-strain shear energy of their other bonds and their hoop energy. The change is
+    // part of what breaking releases, so it is booked as fracture energy.
+    std::size_t count = 0;
+    for (std::size_t i : disks)
+      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && count < touched.size(); ++k) {
+        const auto c = static_cast<std::size_t>(m.adj_bond[k]);
+        if (m.bond_intact(c) && std::find(touched.begin(), touched.begin() + count, c) == touched.begin() + count)
+          touched[count++] = c;
+      }
+    const bool local = m.shear_model == ShearModel::LocalStrain;
+    auto energy = [&]() {
+      double e = 0;
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t c = touched[k];
+        if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * m.f_s[c] * m.f_s[c] / m.k_s[c];
+      }
+      if (m.geometry == Geometry::Axisymmetric)
+        for (std::size_t i : disks) e += hoop_energy(m, i);
+      return e;
+    };
+    const double before = energy();
+    for (std::size_t i : disks) {
+      update_strain_matrix(m, i);
+      disk_strain(m, i);
+    }
+    for (std::size_t k = 0; k < count && local; ++k) {
+      const std::size_t c = touched[k];
+      m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
+      if (m.f_yield[c] == 0) m.f_s[c] = m.k_s[c] * m.u_s[c];
+    }
+    m.fracture_energy[b] += before - energy();
+  }
+  return broken;
 }
 
 Stress disk_stress(const Model& m, std::size_t i) {

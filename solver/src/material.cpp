@@ -80,11 +80,29 @@ std::optional<MaterialIssue> Material::check() const {
   // Written as !(x > 0) so that NaN fails too.
   if (!(density > 0.0) || !std::isfinite(density))
     return issue("density", "must be > 0 [kg/m^3]", density);
+  if (!(friction >= 0.0) || !std::isfinite(friction)) return issue("friction", "must be >= 0", friction);
+  if (!(yield_stress >= 0.0) || !std::isfinite(yield_stress))
+    return issue("yield_stress", "must be >= 0 [Pa]", yield_stress);
+  if (breakable) {
+    if (!(tensile_strength >= 0.0) || !std::isfinite(tensile_strength))
+      return issue("tensile_strength", "must be >= 0 [Pa]", tensile_strength);
+    if (!(compressive_strength > 0.0) || !std::isfinite(compressive_strength))
+      return issue("compressive_strength", "must be > 0 [Pa]", compressive_strength);
+    if (!(cohesion >= 0.0) || !std::isfinite(cohesion)) return issue("cohesion", "must be >= 0 [Pa]", cohesion);
+    if (tensile_strength > compressive_strength)
+      return issue("tensile_strength",
+                   "must not exceed compressive_strength = " + format_number(compressive_strength), tensile_strength);
+    if (!(friction_angle >= 0.0 && friction_angle < 90.0))
+      return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
+  }
   if (isotropic) {
     if (!(E > 0.0) || !std::isfinite(E)) return issue("E", "must be > 0 [Pa]", E);
     if (!(nu > -1.0 && nu < 0.5)) return issue("nu", "must lie in (-1, 0.5)", nu);
+    if (plastic() && !(tangent_modulus >= 0.0 && tangent_modulus < E))
+      return issue("tangent_modulus", "must lie in [0, E) with E = " + format_number(E), tangent_modulus);
     return std::nullopt;
   }
+  if (plastic()) return issue("yield_stress", "plasticity needs an isotropic material (E, nu)", yield_stress);
   if (!(c.c11 > 0.0) || !std::isfinite(c.c11)) return issue("c11", "must be > 0 [Pa]", c.c11);
   if (!(c.c22 > 0.0) || !std::isfinite(c.c22)) return issue("c22", "must be > 0 [Pa]", c.c22);
   if (!(c.c66 > 0.0) || !std::isfinite(c.c66)) return issue("c66", "must be > 0 [Pa]", c.c66);

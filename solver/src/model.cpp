@@ -62,6 +62,23 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
                   &m.g_xx, &m.g_yy, &m.g_xy}) {
     v->assign(nb, 0.0);
   }
+  for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.len_prev, &m.section, &m.mu,
+                  &m.plastic_work, &m.fracture_energy, &m.contact_damping_work, &m.friction_work}) {
+    v->assign(nb, 0.0);
+  }
+  m.failure_law.assign(nb, -1);
+  m.newly_broken.assign(nb, 0);
+  for (const BodyMaterial& bm : materials) {
+    laws::MohrCoulombFailure law;
+    if (bm.material->breakable) {
+      law.f_t = bm.material->tensile_strength;
+      law.f_c = bm.material->compressive_strength;
+      law.c = bm.material->cohesion;
+      law.phi = bm.material->friction_angle;
+      law.rate_dependent = bm.material->rate_dependent;
+    }
+    m.failure_laws.push_back(law);
+  }
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   m.break_time.assign(nb, -1.0);
   for (std::size_t b = 0; b < nb; ++b) {
@@ -83,6 +100,23 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     const bool axis_class = m.bond_class[b] == 1;
     m.k_n[b] = (axis_class ? K.kn1 : K.kn2) * w;
     m.k_s[b] = (axis_class ? K.ks1 : K.ks2) * w;
+    m.len_prev[b] = m.rest_length[b];
+    // Strengths and yield forces act on the bond's section 2r w (Eq. 19, physics.md 7).
+    const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
+    m.section[b] = 2.0 * m.radius[i] * w;
+    m.mu[b] = bm.material->friction;
+    if (bm.material->breakable) {
+      m.failure_law[b] = m.body[i];
+      m.any_breakable = true;
+    }
+    if (bm.material->plastic()) {
+      // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
+      const double ratio = bm.material->tangent_modulus / bm.material->E;
+      m.f_yield[b] = bm.material->yield_stress * m.section[b];
+      m.kh_n[b] = m.k_n[b] * ratio;
+      m.kh_s[b] = m.k_s[b] * ratio;
+      m.any_plastic = true;
+    }
     ++m.initial_bonds[i];
     ++m.initial_bonds[j];
   }
@@ -114,29 +148,44 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   return m;
 }
 
+void reset_bond_history(Model& m) {
+  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s, &m.plastic_work, &m.fracture_energy,
+                  &m.contact_damping_work, &m.friction_work}) {
+    std::fill(v->begin(), v->end(), 0.0);
+  }
+  m.len_prev = m.rest_length;
+  const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; });
+  std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
+  std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
+  std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
+  if (broke) update_strain_matrices(m);
+}
+
+void update_strain_matrix(Model& m, std::size_t i) {
+  double sxx = 0, sxy = 0, syy = 0;
+  for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
+    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    if (!m.bond_intact(b)) continue;
+    sxx += m.adj_ax[k] * m.adj_ax[k];
+    sxy += m.adj_ax[k] * m.adj_ay[k];
+    syy += m.adj_ay[k] * m.adj_ay[k];
+  }
+  // A disk with fewer than two independent bonds has no local strain.
+  const double det = sxx * syy - sxy * sxy;
+  const double scale = sxx + syy;
+  if (det > 1e-6 * scale * scale) {
+    m.minv_xx[i] = syy / det;
+    m.minv_yy[i] = sxx / det;
+    m.minv_xy[i] = -sxy / det;
+  } else {
+    m.minv_xx[i] = m.minv_yy[i] = m.minv_xy[i] = 0.0;
+  }
+}
+
 void update_strain_matrices(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
 #pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    double sxx = 0, sxy = 0, syy = 0;
-    for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-      const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-      if (!m.bond_intact(b)) continue;
-      sxx += m.adj_ax[k] * m.adj_ax[k];
-      sxy += m.adj_ax[k] * m.adj_ay[k];
-      syy += m.adj_ay[k] * m.adj_ay[k];
-    }
-    // A disk with fewer than two independent bonds has no local strain.
-    const double det = sxx * syy - sxy * sxy;
-    const double scale = sxx + syy;
-    if (det > 1e-6 * scale * scale) {
-      m.minv_xx[i] = syy / det;
-      m.minv_yy[i] = sxx / det;
-      m.minv_xy[i] = -sxy / det;
-    } else {
-      m.minv_xx[i] = m.minv_yy[i] = m.minv_xy[i] = 0.0;
-    }
-  }
+  for (std::ptrdiff_t i = 0; i < n; ++i) update_strain_matrix(m, static_cast<std::size_t>(i));
 }
 
 }  // namespace hexdem::solver

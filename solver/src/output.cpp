@@ -146,7 +146,8 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
 
   energy_.open(energy_path_, std::ios::trunc);
   if (!energy_) throw std::runtime_error(energy_path_ + ": cannot write");
-  energy_ << "time,step,kinetic,elastic,external_work,damping,input,total,relative_error\n";
+  energy_ << "time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,friction,"
+             "input,total,relative_error\n";
 
   fs::remove(probes_path_, ec);
   if (!c.probes.empty()) {
@@ -196,7 +197,8 @@ void RunOutput::write_energy(const Solver& solver) {
   const EnergyBalance& e = solver.energy();
   csv_number(energy_, solver.time());
   energy_ << "," << solver.step_index();
-  for (double v : {e.kinetic, e.elastic, e.external_work, e.damping, e.input(), e.total(), e.relative_error()}) {
+  for (double v : {e.kinetic, e.elastic, e.external_work, e.damping, e.plastic, e.fracture, e.contact_damping,
+                   e.friction, e.input(), e.total(), e.relative_error()}) {
     energy_ << ",";
     csv_number(energy_, v);
   }

@@ -40,6 +40,7 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
 Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), lattice_(lattice) {
   setup_materials();
   model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
+  model_.contact_damping = case_.contact.damping;
   setup_boundaries();
   setup_loads();
   setup_initial_velocities();
@@ -218,7 +219,9 @@ double Solver::finite_omega2_max(int max_iterations) {
   const std::size_t n = m.num_disks();
   const bool spins = m.shear_model == ShearModel::Rotation;
   const std::size_t dofs = spins ? 3 : 2;
-  const auto ux = m.ux, uy = m.uy, th = m.theta, vx = m.vx, vy = m.vy, om = m.omega, fs = m.f_s;
+  // Called at set-up, on the initial state: displacements and velocities are saved and the
+  // bonds' history is reset after every probe (the kernel must act as the linear operator).
+  const auto ux = m.ux, uy = m.uy, th = m.theta, vx = m.vx, vy = m.vy, om = m.omega;
   std::vector<double> inv_sqrt_m(n * dofs, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     inv_sqrt_m[dofs * i] = (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
@@ -240,7 +243,7 @@ double Solver::finite_omega2_max(int max_iterations) {
       m.uy[i] = m.vy[i] = eps * v[dofs * i + 1] * inv_sqrt_m[dofs * i + 1];
       m.theta[i] = m.omega[i] = spins ? eps * v[dofs * i + 2] * inv_sqrt_m[dofs * i + 2] : 0.0;
     }
-    std::fill(m.f_s.begin(), m.f_s.end(), 0.0);  // rotation model: increment from zero
+    reset_bond_history(m);  // every spring starts from zero: its increment is the probe
     compute_internal_forces(m, 1.0);
     for (std::size_t i = 0; i < n; ++i) {
       y[dofs * i] = -m.fx[i] / eps * inv_sqrt_m[dofs * i];
@@ -289,8 +292,8 @@ double Solver::finite_omega2_max(int max_iterations) {
       beta_prev = b;
     }
   }
-  m.ux = ux; m.uy = uy; m.theta = th; m.vx = vx; m.vy = vy; m.omega = om; m.f_s = fs;
-  compute_internal_forces(m, 0.0);
+  m.ux = ux; m.uy = uy; m.theta = th; m.vx = vx; m.vy = vy; m.omega = om;
+  reset_bond_history(m);
   return lambda;
 }
 
@@ -308,6 +311,13 @@ void Solver::choose_time_step() {
   const double w2 = finite_omega2_max();
   info.dt_finite = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : std::numeric_limits<double>::infinity();
   info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
+  // A contact dashpot at a fraction eta of critical damping makes central differences stable
+  // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such
+  // contacts with the bonds' stiffness.
+  if (model_.any_breakable && case_.contact.damping > 0) {
+    const double eta = case_.contact.damping;
+    info.dt_critical *= std::sqrt(1 + eta * eta) - eta;
+  }
   if (case_.time.dt) {
     info.user_dt = true;
     info.dt = *case_.time.dt;
@@ -443,7 +453,9 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
   Model& m = model_;
   const double dt = dt_info_.dt;
   apply_external_forces(time_);
+  m.time = time_;
   compute_internal_forces(m, step_ > 0 ? dt : 0.0);
+  if (m.any_breakable) broken_bonds_ += settle_broken_bonds(m);
   const StepSums s = update_velocities(time_);
 
   // Trapezoid sums: the first halves count from step 1 on (the interval before t_0 is none).
@@ -454,7 +466,14 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
   energy_.kinetic = s.kinetic;
   energy_.external_work = ext_a_ + ext_b_before_;
   energy_.damping = damp_a_ + damp_b_before_;
-  if (diagnostics || step_ == 0) energy_.elastic = elastic_energy(m);
+  if (diagnostics || step_ == 0) {
+    energy_.elastic = elastic_energy(m);
+    const BondDissipation d = bond_dissipation(m);
+    energy_.plastic = d.plastic;
+    energy_.fracture = d.fracture;
+    energy_.contact_damping = d.contact_damping;
+    energy_.friction = d.friction;
+  }
   if (step_ == 0) {
     initial_energy_ = energy_.kinetic + energy_.elastic;
   }

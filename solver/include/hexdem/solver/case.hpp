@@ -83,6 +83,11 @@ struct OutputControl {
   int compression_level = 1;      ///< zlib level of the frames
 };
 
+/// Contacts: broken bonds (state II) and disks of different bodies (physics.md section 8).
+struct ContactControl {
+  double damping = 0;  ///< eta: fraction of critical damping of the normal dashpot, [0, 1)
+};
+
 struct Case {
   std::string name;               ///< output base name (default: the case file's stem)
   std::string source;             ///< the case file
@@ -98,6 +103,7 @@ struct Case {
   std::vector<Probe> probes;
   TimeControl time;
   OutputControl output;
+  ContactControl contact;
   std::vector<std::string> warnings;  ///< non-fatal reader notes (e.g. DXF entities skipped),
                                       ///< one line each, for the program to print
 

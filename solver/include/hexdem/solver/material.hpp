@@ -32,7 +32,7 @@ struct SpringConstants {
 
 /// A failed check of Material::validate(): the case-file key at fault and what is wrong.
 struct MaterialIssue {
-  std::string key;      ///< "density", "E", "nu", "c11", "c12", "c22" or "c66"
+  std::string key;      ///< the offending key, e.g. "density", "nu", "tensile_strength"
   std::string problem;  ///< e.g. "must be > 0 (got -1)"
 };
 
@@ -44,6 +44,24 @@ struct Material {
   bool isotropic = true;
   double E = 0, nu = 0;      ///< isotropic: Young's modulus [Pa], Poisson's ratio [-]
   Stiffness2D c;             ///< orthotropic: c11, c12, c22, c66 [Pa] in the lattice frame
+
+  // Plasticity (Eq. 16, physics.md section 7): bilinear kinematic hardening of every spring
+  // (isotropic materials). Yield force f_y = sigma_y 2r w; hardening springs as the elastic
+  // ones with the tangent modulus in place of E.
+  double yield_stress = 0;     ///< sigma_y [Pa]; 0: elastic springs
+  double tangent_modulus = 0;  ///< E_t [Pa], 0 <= E_t < E
+
+  // Failure (Eqs. 17-20, physics.md section 8): on when the strengths are given.
+  bool breakable = false;
+  double tensile_strength = 0;      ///< f_t [Pa]
+  double compressive_strength = 0;  ///< f_c [Pa]
+  double cohesion = 0;              ///< c [Pa]
+  double friction_angle = 0;        ///< phi [deg], in [0, 90)
+  bool rate_dependent = true;       ///< Eq. 20 strain-rate factors
+
+  double friction = 0.5;  ///< Coulomb friction coefficient of contacts [-]
+
+  [[nodiscard]] bool plastic() const { return yield_stress > 0; }
 
   /// The 2D stiffness for a geometry: isotropic E, nu become plane-stress or plane-strain
   /// constants (axisymmetric uses plane strain in the meridian plane); orthotropic c is used

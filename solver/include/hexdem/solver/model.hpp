@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "hexdem/laws/failure.hpp"
 #include "hexdem/meshing/lattice.hpp"
 #include "hexdem/solver/material.hpp"
 
@@ -83,6 +84,23 @@ struct Model {
   std::vector<std::uint8_t> bond_class;
   std::vector<double> break_time;      ///< [s], -1 while intact
 
+  // Plasticity, failure and contact of the bonds (physics.md sections 7, 8).
+  bool any_plastic = false;              ///< some bond has a yield force
+  bool any_breakable = false;            ///< some bond can break
+  double contact_damping = 0;            ///< eta of the contact dashpot [-]
+  double time = 0;                       ///< time of the current force evaluation [s]
+  std::vector<double> f_yield;           ///< yield force sigma_y 2r w [N]; 0: elastic springs
+  std::vector<double> kh_n, kh_s;        ///< hardening stiffnesses [N/m]
+  std::vector<double> alpha_n, alpha_s;  ///< back-forces of the normal and shear springs [N]
+  std::vector<double> len_prev;          ///< length at the previous force evaluation [m]
+  std::vector<double> section;           ///< 2r w: strength = stress x section [m^2]
+  std::vector<double> mu;                ///< contact friction coefficient [-]
+  std::vector<std::int32_t> failure_law; ///< index into failure_laws, -1: unbreakable
+  std::vector<laws::MohrCoulombFailure> failure_laws;
+  // Cumulative energies per bond [J], summed only when reported (deterministic).
+  std::vector<double> plastic_work, fracture_energy, contact_damping_work, friction_work;
+  std::vector<std::uint8_t> newly_broken;  ///< set by the force pass, cleared by the solver
+
   // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
   std::vector<std::int64_t> adj_offset;  ///< size num_disks + 1
   std::vector<std::int32_t> adj_bond;    ///< bond index
@@ -112,6 +130,12 @@ Model build_model(const meshing::Lattice& lattice, Geometry geometry, double thi
 
 /// Recomputes the local-strain matrices (inverse of sum a a^T over intact bonds) of all disks.
 void update_strain_matrices(Model& m);
+/// The same for disk i.
+void update_strain_matrix(Model& m, std::size_t i);
+
+/// Returns every bond to its initial, unloaded and intact state (forces, back-forces,
+/// previous lengths, states, cumulative energies).
+void reset_bond_history(Model& m);
 
 /// Computes internal forces at the current displacements into fx, fy, torque (overwriting),
 /// and the bond forces f_n, f_s. For the rotation model the shear force is incremented by
@@ -120,8 +144,20 @@ void update_strain_matrices(Model& m);
 /// number of threads.
 void compute_internal_forces(Model& m, double dt);
 
-/// Elastic energy stored in the springs (and the hoop term) [J], deterministic.
+/// Elastic energy stored in the springs, contacts and hoop term, including the locked-in
+/// energy of the hardening springs [J], deterministic.
 double elastic_energy(const Model& m);
+
+/// Cumulative dissipation of the bonds [J]: plastic work, energy released by breaking,
+/// contact dashpot and friction; deterministic.
+struct BondDissipation {
+  double plastic = 0, fracture = 0, contact_damping = 0, friction = 0;
+};
+BondDissipation bond_dissipation(const Model& m);
+
+/// After bonds broke in a force pass: recomputes the local-strain matrices of their disks
+/// and clears the flags. Returns the number of bonds that broke.
+std::size_t settle_broken_bonds(Model& m);
 
 /// Love-Weber stress of disk i [Pa]: sigma = 1/(A w) sum sym(x_c (x) f_c), in components
 /// xx, yy, xy, and zz (plane strain isotropic: nu(sxx+syy); axisymmetric: the hoop stress).

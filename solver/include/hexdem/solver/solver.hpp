@@ -23,11 +23,18 @@ struct EnergyBalance {
   double kinetic = 0;        ///< 1/2 m v(t-dt/2).v(t+dt/2) + spin, the leap-frog kinetic energy
   double elastic = 0;        ///< springs and hoop term
   double external_work = 0;  ///< work of loads and prescribed velocities since t = 0
-  double damping = 0;        ///< energy dissipated by mass damping
-  double initial = 0;        ///< kinetic + elastic energy at t = 0 (e.g. a projectile)
-  /// Eq. 25: input E_in = initial + external work; total E_t = kinetic + elastic + damping.
+  double damping = 0;          ///< energy dissipated by mass damping
+  double plastic = 0;          ///< plastic work of the hardening springs (Eq. 16)
+  double fracture = 0;         ///< energy stored in bonds when they broke
+  double contact_damping = 0;  ///< energy dissipated by contact dashpots
+  double friction = 0;         ///< energy dissipated by contact friction
+  double initial = 0;          ///< kinetic + elastic energy at t = 0 (e.g. a projectile)
+  /// Eq. 25: input E_in = initial + external work; total E_t = kinetic + elastic + every
+  /// dissipated energy.
   [[nodiscard]] double input() const { return initial + external_work; }
-  [[nodiscard]] double total() const { return kinetic + elastic + damping; }
+  [[nodiscard]] double total() const {
+    return kinetic + elastic + damping + plastic + fracture + contact_damping + friction;
+  }
   [[nodiscard]] double relative_error() const {
     return input() != 0 ? (input() - total()) / input() : 0.0;
   }
@@ -76,6 +83,8 @@ public:
   [[nodiscard]] double dt() const { return dt_info_.dt; }
   [[nodiscard]] const EnergyBalance& energy() const { return energy_; }
   [[nodiscard]] const BlowUp& blow_up() const { return blow_up_; }
+  /// Bonds broken so far.
+  [[nodiscard]] std::size_t broken_bonds() const { return broken_bonds_; }
   /// Largest pressure over the loads and the run, p0 * max|f(t)| [Pa]; 0 without pressure.
   [[nodiscard]] double p_max() const { return p_max_; }
   /// Velocity of disk i at t_n (mean of the half steps), valid during at_tn.
@@ -133,6 +142,7 @@ private:
   double ext_b_before_ = 0, damp_b_before_ = 0;  ///< second halves of the trapezoid sums
   double ext_a_ = 0, damp_a_ = 0;
   double initial_energy_ = 0;
+  std::size_t broken_bonds_ = 0;
 };
 
 /// Meshes a case's outline (per-body radius, angle and origin already resolved).
