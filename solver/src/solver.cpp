@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 
 #include "hexdem/error.hpp"
+#include "hexdem/laws/contact.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 
 namespace hexdem::solver {
@@ -44,7 +45,112 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
   setup_boundaries();
   setup_loads();
   setup_initial_velocities();
+  setup_contacts();
   choose_time_step();
+}
+
+void Solver::setup_contacts() {
+  // Never-bonded disks can only meet when there are several bodies or bonds can break.
+  contacts_on_ = case_.outline.bodies.size() > 1 || model_.any_breakable;
+  if (!contacts_on_) return;
+  const Model& m = model_;
+  const std::size_t n = m.num_disks();
+  px_.resize(n);
+  py_.resize(n);
+  double r_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    px_[i] = m.x0[i] + m.ux[i];
+    py_[i] = m.y0[i] + m.uy[i];
+    r_min = std::min(r_min, m.radius[i]);
+  }
+  // Contact stiffness per unit thickness of each body: its springs along the lattice axis;
+  // a pair uses the series (harmonic) combination of its two bodies.
+  for (const BodyMaterial& bm : body_materials_) {
+    body_kn_.push_back(bm.springs.kn1);
+    body_kt_.push_back(bm.springs.ks1 > 0 ? bm.springs.ks1 : 0.5 * bm.springs.kn1);
+    body_mu_.push_back(bm.material->friction);
+  }
+  sweep_.set_exclusion_pairs(m.bi.data(), m.bj.data(), m.num_bonds(), n);
+  sweep_.build(px_.data(), py_.data(), m.radius.data(), n, 0.2 * r_min);
+  for (const auto& [i, j] : sweep_.pairs()) {
+    const double d = std::hypot(px_[j] - px_[i], py_[j] - py_[i]);
+    const double overlap = m.radius[i] + m.radius[j] - d;
+    if (overlap > 1e-6 * r_min && m.body[i] != m.body[j]) {
+      throw InputError(case_.source + ": bodies '" + lattice_.body_names[m.body[i]] + "' and '" +
+                       lattice_.body_names[m.body[j]] + "' overlap at the start: disks at (" + fmt(px_[i]) + ", " +
+                       fmt(py_[i]) + ") and (" + fmt(px_[j]) + ", " + fmt(py_[j]) + ") overlap by " + fmt(overlap) +
+                       " m");
+    }
+    contacts_.push_back({i, j, 0.0, 0.0});
+  }
+}
+
+void Solver::contact_forces(double dt) {
+  Model& m = model_;
+  if (sweep_.update(px_.data(), py_.data(), m.radius.data())) {
+    // Carry the forces of pairs that stay (both lists are sorted by (i, j)).
+    contacts_next_.clear();
+    std::size_t k = 0;
+    for (const auto& [i, j] : sweep_.pairs()) {
+      // Pairs that left the list are apart by more than the margin: their forces are zero.
+      while (k < contacts_.size() && (contacts_[k].i < i || (contacts_[k].i == i && contacts_[k].j < j))) ++k;
+      Contact c{i, j, 0.0, 0.0};
+      if (k < contacts_.size() && contacts_[k].i == i && contacts_[k].j == j) c = contacts_[k];
+      contacts_next_.push_back(c);
+    }
+    contacts_.swap(contacts_next_);
+  }
+  const bool axisym = case_.geometry == Geometry::Axisymmetric;
+  for (Contact& c : contacts_) {
+    const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+    const double dx = px_[j] - px_[i], dy = py_[j] - py_[i];
+    const double d = std::hypot(dx, dy);
+    const double delta = m.radius[i] + m.radius[j] - d;
+    if (delta <= 0 && c.f_n == 0 && c.f_s == 0) continue;
+    const double nx = dx / d, ny = dy / d, sx = -ny, sy = nx;
+    const std::size_t bi = static_cast<std::size_t>(m.body[i]), bj = static_cast<std::size_t>(m.body[j]);
+    // Width: the thickness, or the contact point's distance from the axis (per radian).
+    const double w = axisym ? std::max(px_[i] + m.radius[i] * nx, 0.0) : case_.thickness;
+    const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
+    const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
+    if (!(kn > 0) || !(kt > 0)) continue;  // a contact on the axis carries nothing per radian
+    const laws::LinearContact law{kn, kt, std::min(body_mu_[bi], body_mu_[bj]), case_.contact.damping};
+    const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
+    const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+    const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
+    laws::ContactState st{c.f_n, c.f_s};
+    const laws::ContactStep step = law.update(st, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
+    c.f_n = st.f_n;
+    c.f_s = st.f_s;
+    contact_damping_work_ += step.damping_power * dt;
+    contact_friction_work_ += step.friction_dissipation;
+    // Force on i: f_n n + f_s s (compression pushes i away from j); moments +r f_s on both.
+    const double fx = c.f_n * nx + c.f_s * sx, fy = c.f_n * ny + c.f_s * sy;
+    m.fx[i] += fx;
+    m.fy[i] += fy;
+    m.fx[j] -= fx;
+    m.fy[j] -= fy;
+    m.torque[i] += m.radius[i] * c.f_s;
+    m.torque[j] += m.radius[j] * c.f_s;
+  }
+}
+
+double Solver::contact_energy() const {
+  double e = 0;
+  for (const Contact& c : contacts_) {
+    if (c.f_n == 0 && c.f_s == 0) continue;
+    const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+    const double d = std::hypot(px_[j] - px_[i], py_[j] - py_[i]);
+    const double nx = (px_[j] - px_[i]) / d;
+    const std::size_t bi = static_cast<std::size_t>(model_.body[i]), bj = static_cast<std::size_t>(model_.body[j]);
+    const double w = case_.geometry == Geometry::Axisymmetric ? std::max(px_[i] + model_.radius[i] * nx, 0.0)
+                                                              : case_.thickness;
+    const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
+    const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
+    if (kn > 0) e += 0.5 * c.f_n * c.f_n / kn;
+    if (kt > 0) e += 0.5 * c.f_s * c.f_s / kt;
+  }
+  return e;
 }
 
 void Solver::setup_materials() {
@@ -314,7 +420,7 @@ void Solver::choose_time_step() {
   // A contact dashpot at a fraction eta of critical damping makes central differences stable
   // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such
   // contacts with the bonds' stiffness.
-  if (model_.any_breakable && case_.contact.damping > 0) {
+  if ((model_.any_breakable || contacts_on_) && case_.contact.damping > 0) {
     const double eta = case_.contact.damping;
     info.dt_critical *= std::sqrt(1 + eta * eta) - eta;
   }
@@ -456,6 +562,7 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
   m.time = time_;
   compute_internal_forces(m, step_ > 0 ? dt : 0.0);
   if (m.any_breakable) broken_bonds_ += settle_broken_bonds(m);
+  if (contacts_on_) contact_forces(step_ > 0 ? dt : 0.0);
   const StepSums s = update_velocities(time_);
 
   // Trapezoid sums: the first halves count from step 1 on (the interval before t_0 is none).
@@ -471,8 +578,9 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
     const BondDissipation d = bond_dissipation(m);
     energy_.plastic = d.plastic;
     energy_.fracture = d.fracture;
-    energy_.contact_damping = d.contact_damping;
-    energy_.friction = d.friction;
+    energy_.contact_damping = d.contact_damping + contact_damping_work_;
+    energy_.friction = d.friction + contact_friction_work_;
+    if (contacts_on_) energy_.elastic += contact_energy();
   }
   if (step_ == 0) {
     initial_energy_ = energy_.kinetic + energy_.elastic;
@@ -500,6 +608,13 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
     m.ux[i] += dt * m.vx[i];
     m.uy[i] += dt * m.vy[i];
     m.theta[i] += dt * m.omega[i];
+  }
+  if (contacts_on_) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      px_[i] = m.x0[i] + m.ux[i];
+      py_[i] = m.y0[i] + m.uy[i];
+    }
   }
   ext_b_before_ += s.ext_b;
   damp_b_before_ += s.damp_b;

@@ -14,6 +14,7 @@
 #include "hexdem/solver/case.hpp"
 #include "hexdem/solver/model.hpp"
 #include "hexdem/solver/stability.hpp"
+#include "hexdem/solver/sweep_prune.hpp"
 
 namespace hexdem::solver {
 
@@ -85,6 +86,15 @@ public:
   [[nodiscard]] const BlowUp& blow_up() const { return blow_up_; }
   /// Bonds broken so far.
   [[nodiscard]] std::size_t broken_bonds() const { return broken_bonds_; }
+
+  /// A contact between two disks that were never bonded (other bodies, or fragments).
+  struct Contact {
+    std::int32_t i = 0, j = 0;  ///< disks, i < j
+    double f_n = 0, f_s = 0;    ///< normal (compression negative) and tangential force [N]
+  };
+  /// Contact pairs found by the broad phase (forces zero while apart), sorted by (i, j).
+  [[nodiscard]] const std::vector<Contact>& contacts() const { return contacts_; }
+  [[nodiscard]] bool contacts_enabled() const { return contacts_on_; }
   /// Largest pressure over the loads and the run, p0 * max|f(t)| [Pa]; 0 without pressure.
   [[nodiscard]] double p_max() const { return p_max_; }
   /// Velocity of disk i at t_n (mean of the half steps), valid during at_tn.
@@ -120,6 +130,9 @@ private:
   void setup_mirror_springs(const BoundaryCondition& bc, int set);
   void setup_loads();
   void setup_initial_velocities();
+  void setup_contacts();
+  void contact_forces(double dt);
+  [[nodiscard]] double contact_energy() const;
   void choose_time_step();
   void apply_external_forces(double t);
   StepSums update_velocities(double t);
@@ -143,6 +156,13 @@ private:
   double ext_a_ = 0, damp_a_ = 0;
   double initial_energy_ = 0;
   std::size_t broken_bonds_ = 0;
+  // Contacts of never-bonded disks (physics.md section 8).
+  bool contacts_on_ = false;
+  SweepPrune sweep_;
+  std::vector<double> px_, py_;                 ///< current centres [m]
+  std::vector<Contact> contacts_, contacts_next_;
+  std::vector<double> body_kn_, body_kt_, body_mu_;  ///< per body, per unit thickness
+  double contact_damping_work_ = 0, contact_friction_work_ = 0;
 };
 
 /// Meshes a case's outline (per-body radius, angle and origin already resolved).
