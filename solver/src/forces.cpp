@@ -131,8 +131,15 @@ void compute_bond_forces(Model& m, double dt) {
     if (m.failure_law[b] >= 0) {
       // Eqs. 17, 19, 20: strain rate of the bond from its stretch over the last step.
       const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
-      const laws::FailureMode mode =
-          m.failure_laws[static_cast<std::size_t>(m.failure_law[b])].check(m.f_n[b], m.f_s[b], m.section[b], edot);
+      // Strengths of the bond's section, with the rate factors only where the rate is above
+      // 1/s (below, Eq. 20 gives 1) and tan(phi) precomputed per material.
+      const auto l = static_cast<std::size_t>(m.failure_law[b]);
+      const laws::MohrCoulombFailure& law = m.failure_laws[l];
+      const laws::RateFactors rf = edot > 1.0 ? law.rate_factors(edot) : laws::RateFactors{};
+      const double sec = m.section[b];
+      const laws::BondStrength strength{law.f_t * rf.tension * sec, law.f_c * rf.compression * sec,
+                                        law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
+      const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], strength);
       if (mode != laws::FailureMode::None) {
         // The stored energy of the bond is released (it enters the balance as fracture).
         double e = 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b];

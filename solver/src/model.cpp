@@ -78,6 +78,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
       law.rate_dependent = bm.material->rate_dependent;
     }
     m.failure_laws.push_back(law);
+    m.failure_tan_phi.push_back(law.tan_phi());
   }
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   m.break_time.assign(nb, -1.0);

@@ -324,9 +324,13 @@ int run_case(const Case& c, const RunOptions& options) {
   if (!options.quiet) {
     const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
     std::printf("  done: %zu frames, max |energy error| %.3g\n", out.frames(), max_error);
+    const double step_seconds = wall - secs(wall0, wall_setup) - output_seconds;
     std::printf("  wall %.2f s: mesh %.2f s, set-up %.2f s, steps %.2f s, output %.2f s\n", wall,
-                secs(wall0, wall_mesh), secs(wall_mesh, wall_setup),
-                wall - secs(wall0, wall_setup) - output_seconds, output_seconds);
+                secs(wall0, wall_mesh), secs(wall_mesh, wall_setup), step_seconds, output_seconds);
+    if (solver.contacts_enabled()) {
+      std::printf("  contacts: %zu bonds broken, broad phase %.2f s (%.1f %% of the steps)\n", solver.broken_bonds(),
+                  solver.detection_seconds(), 100.0 * solver.detection_seconds() / step_seconds);
+    }
     std::printf("  series: %s\n  energy: %s\n", out.pvd_path().c_str(), out.energy_path().c_str());
     if (!c.probes.empty()) std::printf("  probes: %s\n", out.probes_path().c_str());
   }

@@ -4,6 +4,7 @@
 #include "hexdem/solver/solver.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -87,7 +88,10 @@ void Solver::setup_contacts() {
 
 void Solver::contact_forces(double dt) {
   Model& m = model_;
-  if (sweep_.update(px_.data(), py_.data(), m.radius.data())) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool changed = sweep_.update(px_.data(), py_.data(), m.radius.data());
+  detection_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (changed) {
     // Carry the forces of pairs that stay (both lists are sorted by (i, j)).
     contacts_next_.clear();
     std::size_t k = 0;
@@ -109,15 +113,18 @@ void Solver::contact_forces(double dt) {
     if (delta <= 0 && c.f_n == 0 && c.f_s == 0) continue;
     const double nx = dx / d, ny = dy / d, sx = -ny, sy = nx;
     const std::size_t bi = static_cast<std::size_t>(m.body[i]), bj = static_cast<std::size_t>(m.body[j]);
-    // Width: the thickness, or the contact point's distance from the axis (per radian).
-    const double w = axisym ? std::max(px_[i] + m.radius[i] * nx, 0.0) : case_.thickness;
+    // Width: the thickness, or (per radian) the mean ring radius of the two disks, as their
+    // masses are weighted: a contact stays no stiffer, for its masses, than the bonds are.
+    const double w = axisym ? 0.5 * (m.weight[i] + m.weight[j]) : case_.thickness;
     const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
     if (!(kn > 0) || !(kt > 0)) continue;  // a contact on the axis carries nothing per radian
-    const laws::LinearContact law{kn, kt, std::min(body_mu_[bi], body_mu_[bj]), case_.contact.damping};
+    const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
+    const double cap = contact_stiffness_cap(m_eff);
+    const laws::LinearContact law{std::min(kn, cap), std::min(kt, cap), std::min(body_mu_[bi], body_mu_[bj]),
+                                  case_.contact.damping};
     const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
     const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-    const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
     laws::ContactState st{c.f_n, c.f_s};
     const laws::ContactStep step = law.update(st, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
     c.f_n = st.f_n;
@@ -135,20 +142,30 @@ void Solver::contact_forces(double dt) {
   }
 }
 
+double Solver::contact_stiffness_cap(double m_eff) const {
+  // A contact of two small disks (a sharp nose, a corner) may be far stiffer, for its
+  // masses, than the lattice the time step was chosen for. Central differences with the
+  // dashpot are stable for omega dt < 2 (sqrt(1 + eta^2) - eta); a contact is kept at half of
+  // that (a disk may have several), i.e. k <= m_eff (0.45 g / dt)^2 with g that bound.
+  const double eta = case_.contact.damping;
+  const double g = 2.0 * (std::sqrt(1.0 + eta * eta) - eta);
+  const double w = 0.45 * g / dt_info_.dt;
+  return m_eff * w * w;
+}
+
 double Solver::contact_energy() const {
   double e = 0;
   for (const Contact& c : contacts_) {
     if (c.f_n == 0 && c.f_s == 0) continue;
     const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
-    const double d = std::hypot(px_[j] - px_[i], py_[j] - py_[i]);
-    const double nx = (px_[j] - px_[i]) / d;
     const std::size_t bi = static_cast<std::size_t>(model_.body[i]), bj = static_cast<std::size_t>(model_.body[j]);
-    const double w = case_.geometry == Geometry::Axisymmetric ? std::max(px_[i] + model_.radius[i] * nx, 0.0)
+    const double w = case_.geometry == Geometry::Axisymmetric ? 0.5 * (model_.weight[i] + model_.weight[j])
                                                               : case_.thickness;
     const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
-    if (kn > 0) e += 0.5 * c.f_n * c.f_n / kn;
-    if (kt > 0) e += 0.5 * c.f_s * c.f_s / kt;
+    const double cap = contact_stiffness_cap(model_.mass[i] * model_.mass[j] / (model_.mass[i] + model_.mass[j]));
+    if (kn > 0) e += 0.5 * c.f_n * c.f_n / std::min(kn, cap);
+    if (kt > 0) e += 0.5 * c.f_s * c.f_s / std::min(kt, cap);
   }
   return e;
 }
@@ -166,6 +183,16 @@ void Solver::setup_materials() {
     bm.springs = spring_constants(c);
     body_materials_.push_back(bm);
 
+    // Per-spring plasticity (Eq. 16) needs positive shear springs: with k_s <= 0 the lattice
+    // is positive definite only through its elastic normal springs, and once those yield to a
+    // small tangent modulus it is not (measured: the warhead's steel blows up on impact).
+    if (mat->plastic() && (bm.springs.ks1 <= 0 || bm.springs.ks2 <= 0)) {
+      throw InputError(case_.source + ": material '" + mat->name + "' (id " + std::to_string(mat->id) +
+                       "): plasticity needs positive shear springs, i.e. nu < 1/4 in plane strain and "
+                       "axisymmetry or nu < 1/3 in plane stress (nu = " + fmt(mat->nu) +
+                       ", k_s = " + fmt(std::min(bm.springs.ks1, bm.springs.ks2)) +
+                       " N/m per m); remedy: drop yield_stress (elastic) for this material");
+    }
     // Stability of the chosen shear model for this material (physics.md section 4).
     const double r = body.radius.value_or(0.0);
     const BlochResult br = bloch_analysis(bm.springs, mat->density, r, case_.shear_model);

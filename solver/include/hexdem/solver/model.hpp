@@ -97,6 +97,7 @@ struct Model {
   std::vector<double> mu;                ///< contact friction coefficient [-]
   std::vector<std::int32_t> failure_law; ///< index into failure_laws, -1: unbreakable
   std::vector<laws::MohrCoulombFailure> failure_laws;
+  std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
   // Cumulative energies per bond [J], summed only when reported (deterministic).
   std::vector<double> plastic_work, fracture_energy, contact_damping_work, friction_work;
   std::vector<std::uint8_t> newly_broken;  ///< set by the force pass, cleared by the solver

@@ -95,6 +95,8 @@ public:
   /// Contact pairs found by the broad phase (forces zero while apart), sorted by (i, j).
   [[nodiscard]] const std::vector<Contact>& contacts() const { return contacts_; }
   [[nodiscard]] bool contacts_enabled() const { return contacts_on_; }
+  /// Wall time spent in the contact broad phase so far [s].
+  [[nodiscard]] double detection_seconds() const { return detection_seconds_; }
   /// Largest pressure over the loads and the run, p0 * max|f(t)| [Pa]; 0 without pressure.
   [[nodiscard]] double p_max() const { return p_max_; }
   /// Velocity of disk i at t_n (mean of the half steps), valid during at_tn.
@@ -133,6 +135,7 @@ private:
   void setup_contacts();
   void contact_forces(double dt);
   [[nodiscard]] double contact_energy() const;
+  [[nodiscard]] double contact_stiffness_cap(double m_eff) const;
   void choose_time_step();
   void apply_external_forces(double t);
   StepSums update_velocities(double t);
@@ -163,6 +166,7 @@ private:
   std::vector<Contact> contacts_, contacts_next_;
   std::vector<double> body_kn_, body_kt_, body_mu_;  ///< per body, per unit thickness
   double contact_damping_work_ = 0, contact_friction_work_ = 0;
+  double detection_seconds_ = 0;
 };
 
 /// Meshes a case's outline (per-body radius, angle and origin already resolved).
