@@ -275,6 +275,23 @@ TEST(Plasticity, EnergyBalanceHoldsWithPlasticWork) {
   EXPECT_GT(yielded, 10);
 }
 
+TEST(FailureInput, PlasticityWithNegativeShearSpringsIsRefused) {
+  // nu = 0.3 in plane strain gives k_s < 0: a yielding lattice would lose positive
+  // definiteness, so the solver refuses the combination.
+  std::string text = bar_case("yield_stress = 20e6\ntangent_modulus = 3e9\n", "end = 1e-6\n");
+  text.replace(text.find("plane-stress"), 12, "plane-strain");
+  text.replace(text.find("nu = 0.2"), 8, "nu = 0.3");
+  const Case c = parse_case(text, "bar.toml", ".");
+  try {
+    Solver s(c, mesh_case(c));
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("concrete"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("positive shear springs"), std::string::npos) << msg;
+  }
+}
+
 TEST(FailureInput, BadStrengthsAreRefused) {
   const auto msg = [](const std::string& extra) {
     try {
