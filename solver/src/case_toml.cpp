@@ -178,9 +178,9 @@ constexpr std::array<std::string_view, 5> kProbeFields{"displacement", "velocity
 
 // The keys of every table. The generic lambdas convert to Key::read for their record type.
 
-constexpr std::array<std::string_view, 13> kTopLevelKeys{
+constexpr std::array<std::string_view, 14> kTopLevelKeys{
     "case", "mesh",   "material", "boundary", "load",    "initial_velocity",
-    "time", "output", "probe",    "units",    "lattice", "body", "contact"};
+    "time", "output", "probe",    "units",    "lattice", "body", "contact", "wall"};
 /// Top-level keys of an inline outline (docs/outline-format.md).
 constexpr std::array<std::string_view, 3> kOutlineKeys{"units", "lattice", "body"};
 
@@ -399,6 +399,20 @@ constexpr std::array<Key<OutputControl>, 4> kOutputKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.compression_level = static_cast<int>(in.integer(v, p, 0, 9));
      }},
+}};
+
+constexpr std::array<Key<Wall>, 3> kWallKeys{{
+    {"point", true,
+     [](const auto& in, const auto& v, const auto& p, auto& w) { w.point = in.vector2(v, p); }},
+    {"normal", true,
+     [](const auto& in, const auto& v, const auto& p, auto& w) {
+       const auto n = in.vector2(v, p);
+       const double len = std::hypot(n[0], n[1]);
+       if (!(len > 0)) in.fail(v, p, "must not be zero (got " + describe(v) + ")");
+       w.normal = {n[0] / len, n[1] / len};
+     }},
+    {"friction", false,
+     [](const auto& in, const auto& v, const auto& p, auto& w) { w.friction = in.non_negative(v, p); }},
 }};
 
 constexpr std::array<Key<ContactControl>, 1> kContactKeys{{
@@ -632,6 +646,12 @@ Case Reader::read(toml::table& root) {
   read_time(root, c);
   read_output(root, c);
   read_probes(root, c);
+  for_each_table(root, "wall", [&](const toml::table& t, const std::string& path, std::size_t) {
+    Wall w;
+    read_keys(t, path, Keys<Wall>(kWallKeys), w);
+    w.where = where(t, path);
+    c.walls.push_back(w);
+  });
   return c;
 }
 

@@ -51,6 +51,8 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
 }
 
 void Solver::setup_contacts() {
+  wall_fn_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
+  wall_fs_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
   // Never-bonded disks can only meet when there are several bodies or bonds can break.
   contacts_on_ = case_.outline.bodies.size() > 1 || model_.any_breakable;
   if (!contacts_on_) return;
@@ -142,6 +144,45 @@ void Solver::contact_forces(double dt) {
   }
 }
 
+void Solver::wall_forces(double dt) {
+  // Each disk against each rigid wall: the contact law with the disk's own springs along the
+  // lattice axis (the wall is rigid), the disk's mass, and the wall's or the disk's friction.
+  Model& m = model_;
+  const bool axisym = case_.geometry == Geometry::Axisymmetric;
+  for (std::size_t w = 0; w < case_.walls.size(); ++w) {
+    const Wall& wall = case_.walls[w];
+    const double nx = wall.normal[0], ny = wall.normal[1];
+    // From the disk towards the wall: e = -n; tangent s = (-e_y, e_x).
+    const double ex = -nx, ey = -ny, sx = -ey, sy = ex;
+    for (std::size_t i = 0; i < m.num_disks(); ++i) {
+      const double x = m.x0[i] + m.ux[i], y = m.y0[i] + m.uy[i];
+      const double delta = m.radius[i] - ((x - wall.point[0]) * nx + (y - wall.point[1]) * ny);
+      double& fn = wall_fn_[w][i];
+      double& fs = wall_fs_[w][i];
+      if (delta <= 0 && fn == 0 && fs == 0) continue;
+      const auto b = static_cast<std::size_t>(m.body[i]);
+      const double width = axisym ? m.weight[i] : case_.thickness;
+      const double cap = contact_stiffness_cap(m.mass[i]);
+      const double mu = wall.friction.value_or(body_materials_[b].material->friction);
+      const SpringConstants& K = body_materials_[b].springs;
+      const double kn = std::min(K.kn1 * width, cap);
+      const double kt = std::min((K.ks1 > 0 ? K.ks1 : 0.5 * K.kn1) * width, cap);
+      const laws::LinearContact law{kn, kt, mu, case_.contact.damping};
+      const double du_s = dt * (-(m.vx[i] * sx + m.vy[i] * sy) - m.radius[i] * m.omega[i]);
+      laws::ContactState st{fn, fs};
+      const laws::ContactStep step =
+          law.update(st, delta, m.vx[i] * ex + m.vy[i] * ey, du_s, law.damping_coefficient(m.mass[i]));
+      fn = st.f_n;
+      fs = st.f_s;
+      contact_damping_work_ += step.damping_power * dt;
+      contact_friction_work_ += step.friction_dissipation;
+      m.fx[i] += fn * ex + fs * sx;
+      m.fy[i] += fn * ey + fs * sy;
+      m.torque[i] += m.radius[i] * fs;
+    }
+  }
+}
+
 double Solver::contact_stiffness_cap(double m_eff) const {
   // A contact of two small disks (a sharp nose, a corner) may be far stiffer, for its
   // masses, than the lattice the time step was chosen for. Central differences with the
@@ -155,6 +196,18 @@ double Solver::contact_stiffness_cap(double m_eff) const {
 
 double Solver::contact_energy() const {
   double e = 0;
+  for (std::size_t w = 0; w < case_.walls.size(); ++w) {
+    for (std::size_t i = 0; i < model_.num_disks(); ++i) {
+      const double fn = wall_fn_[w][i], fs = wall_fs_[w][i];
+      if (fn == 0 && fs == 0) continue;
+      const auto b = static_cast<std::size_t>(model_.body[i]);
+      const double width = case_.geometry == Geometry::Axisymmetric ? model_.weight[i] : case_.thickness;
+      const double cap = contact_stiffness_cap(model_.mass[i]);
+      const SpringConstants& K = body_materials_[b].springs;
+      e += 0.5 * fn * fn / std::min(K.kn1 * width, cap) +
+           0.5 * fs * fs / std::min((K.ks1 > 0 ? K.ks1 : 0.5 * K.kn1) * width, cap);
+    }
+  }
   for (const Contact& c : contacts_) {
     if (c.f_n == 0 && c.f_s == 0) continue;
     const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
@@ -447,7 +500,7 @@ void Solver::choose_time_step() {
   // A contact dashpot at a fraction eta of critical damping makes central differences stable
   // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such
   // contacts with the bonds' stiffness.
-  if ((model_.any_breakable || contacts_on_) && case_.contact.damping > 0) {
+  if ((model_.any_breakable || contacts_on_ || !case_.walls.empty()) && case_.contact.damping > 0) {
     const double eta = case_.contact.damping;
     info.dt_critical *= std::sqrt(1 + eta * eta) - eta;
   }
@@ -590,6 +643,7 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
   compute_internal_forces(m, step_ > 0 ? dt : 0.0);
   if (m.any_breakable) broken_bonds_ += settle_broken_bonds(m);
   if (contacts_on_) contact_forces(step_ > 0 ? dt : 0.0);
+  if (!case_.walls.empty()) wall_forces(step_ > 0 ? dt : 0.0);
   const StepSums s = update_velocities(time_);
 
   // Trapezoid sums: the first halves count from step 1 on (the interval before t_0 is none).
@@ -607,7 +661,7 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
     energy_.fracture = d.fracture;
     energy_.contact_damping = d.contact_damping + contact_damping_work_;
     energy_.friction = d.friction + contact_friction_work_;
-    if (contacts_on_) energy_.elastic += contact_energy();
+    if (contacts_on_ || !case_.walls.empty()) energy_.elastic += contact_energy();
   }
   if (step_ == 0) {
     initial_energy_ = energy_.kinetic + energy_.elastic;

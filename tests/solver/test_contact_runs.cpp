@@ -130,3 +130,68 @@ TEST(ContactRun, BodiesOverlappingAtTheStartAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+/// A disk that cannot spin resting on a wall inclined at `deg` degrees under gravity, with
+/// friction coefficient 0.5 (friction angle 26.6 degrees); returns its travel down the slope
+/// after `time` and the travel of a frictionless block, g sin(theta) t^2 / 2 - mu g cos(theta) t^2 / 2.
+struct Slide {
+  double travel = 0, expected = 0;
+};
+
+Slide slide(double deg, double time) {
+  const double r = 0.5e-3, th = deg * 3.14159265358979323846 / 180.0, g = 9.81, mu = 0.5;
+  Pair p = head_on(r, 0.0, 0.0, 0.0, 0.0, time);
+  Case& c = p.c;
+  c.outline.bodies.pop_back();
+  c.initial_velocities.clear();
+  c.time.dt.reset();
+  meshing::Lattice& lat = p.lattice;
+  const double nx = -std::sin(th), ny = std::cos(th);
+  lat.x = {r * nx};
+  lat.y = {r * ny};
+  lat.radius = {r};
+  lat.cell_area = {lat.cell_area[0]};
+  lat.cell_cx = lat.x;
+  lat.cell_cy = lat.y;
+  lat.kind = {0};
+  lat.body = {0};
+  lat.material = {1};
+  lat.body_names = {"left"};
+  lat.body_region_area = {lat.cell_area[0]};
+  Wall wall;
+  wall.point = {0.0, 0.0};
+  wall.normal = {nx, ny};
+  wall.friction = mu;
+  c.walls.push_back(wall);
+  Load gravity;
+  gravity.kind = Load::Kind::BodyForce;
+  gravity.acceleration = {0.0, -g};
+  c.loads.push_back(gravity);
+  c.contact.damping = 0.3;
+  Solver s(c, lat);
+  s.model().constraint[0] |= kFixRotation;
+  const std::int64_t steps = s.total_steps();
+  for (std::int64_t n = 0; n <= steps; ++n) EXPECT_TRUE(s.advance(false));
+  const double down_x = std::cos(th), down_y = std::sin(th);  // along the slope, downwards
+  Slide out;
+  out.travel = -(s.model().ux[0] * down_x + s.model().uy[0] * down_y);
+  out.expected = std::max(0.0, 0.5 * g * (std::sin(th) - mu * std::cos(th)) * time * time);
+  return out;
+}
+
+TEST(ContactRun, DiskOnAnInclinedWallSticksBelowTheFrictionAngle) {
+  const Slide s = slide(20.0, 2e-3);
+  std::printf("20 degrees: travel %.3g m (sticks: the contact springs' elastic creep only)\n", s.travel);
+  EXPECT_LT(std::abs(s.travel), 1e-6);
+}
+
+TEST(ContactRun, DiskOnAnInclinedWallSlidesAboveTheFrictionAngle) {
+  const Slide s = slide(35.0, 2e-3);
+  std::printf("35 degrees: travel %.4g m, Coulomb sliding %.4g m\n", s.travel, s.expected);
+  EXPECT_GT(s.expected, 1e-6);
+  EXPECT_NEAR(s.travel, s.expected, 0.02 * s.expected);
+}
+
+}  // namespace

@@ -83,6 +83,16 @@ struct OutputControl {
   int compression_level = 1;      ///< zlib level of the frames
 };
 
+/// A rigid planar wall: the half-plane behind the line through `point` with unit `normal`
+/// pointing towards the disks. Disks touching it get a contact (compression only, Coulomb
+/// friction, the case's dashpot fraction).
+struct Wall {
+  std::array<double, 2> point{0, 0};   ///< a point of the wall [m]
+  std::array<double, 2> normal{0, 1};  ///< unit normal towards the disks
+  std::optional<double> friction;      ///< Coulomb coefficient; default: the disk's material's
+  std::string where;
+};
+
 /// Contacts: broken bonds (state II) and disks of different bodies (physics.md section 8).
 struct ContactControl {
   double damping = 0;  ///< eta: fraction of critical damping of the normal dashpot, [0, 1)
@@ -101,6 +111,7 @@ struct Case {
   std::vector<Load> loads;
   std::vector<InitialVelocity> initial_velocities;
   std::vector<Probe> probes;
+  std::vector<Wall> walls;
   TimeControl time;
   OutputControl output;
   ContactControl contact;

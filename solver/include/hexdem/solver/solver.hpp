@@ -134,6 +134,7 @@ private:
   void setup_initial_velocities();
   void setup_contacts();
   void contact_forces(double dt);
+  void wall_forces(double dt);
   [[nodiscard]] double contact_energy() const;
   [[nodiscard]] double contact_stiffness_cap(double m_eff) const;
   void choose_time_step();
@@ -167,6 +168,7 @@ private:
   std::vector<double> body_kn_, body_kt_, body_mu_;  ///< per body, per unit thickness
   double contact_damping_work_ = 0, contact_friction_work_ = 0;
   double detection_seconds_ = 0;
+  std::vector<std::vector<double>> wall_fn_, wall_fs_;  ///< per wall, per disk [N]
 };
 
 /// Meshes a case's outline (per-body radius, angle and origin already resolved).
