@@ -36,7 +36,7 @@ void csv_number(std::ostream& o, double v) {
 
 }  // namespace
 
-io::LineGrid RunOutput::frame_grid(const Solver& solver) {
+io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts) {
   const Model& m = solver.model();
   const std::size_t n = m.num_disks(), nb = m.num_bonds();
   io::LineGrid g;
@@ -113,11 +113,52 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver) {
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) broken += !m.bond_intact(m.adj_bond[k]);
     return static_cast<double>(broken) / m.initial_bonds[i];
   }));
-  g.cell_data.push_back(io::array_view("state", m.state.data(), nb));
-  g.cell_data.push_back(io::array_view("normal_force", m.f_n.data(), nb));
-  g.cell_data.push_back(io::array_view("shear_force", m.f_s.data(), nb));
-  g.cell_data.push_back(io::array_view("break_time", m.break_time.data(), nb));
-  g.cell_data.push_back(io::array_view("bond_class", m.bond_class.data(), nb));
+  // Contacts of never-bonded disks that carry force: a second set of lines after the bonds
+  // (state 5), so that the bonds keep their order in every frame.
+  contacts.i.clear();
+  contacts.j.clear();
+  contacts.f_n.clear();
+  contacts.f_s.clear();
+  for (const Solver::Contact& c : solver.contacts()) {
+    if (c.f_n == 0 && c.f_s == 0) continue;
+    contacts.i.push_back(c.i);
+    contacts.j.push_back(c.j);
+    contacts.f_n.push_back(c.f_n);
+    contacts.f_s.push_back(c.f_s);
+  }
+  const std::size_t nc = contacts.i.size();
+  g.num_extra_lines = nc;
+  g.extra_i = contacts.i.data();
+  g.extra_j = contacts.j.data();
+  // A cell array over bonds then contacts: bond values, then `contact(k)` for contact k.
+  auto cells = [nb, nc](std::string name, io::ScalarType type, auto bond, auto contact) {
+    io::ArraySource a;
+    a.name = std::move(name);
+    a.type = type;
+    a.tuples = nb + nc;
+    a.fill = [nb, type, bond, contact](std::size_t first, std::size_t count, void* out) {
+      for (std::size_t k = first; k < first + count; ++k) {
+        const double v = k < nb ? bond(k) : contact(k - nb);
+        if (type == io::ScalarType::UInt8) {
+          static_cast<std::uint8_t*>(out)[k - first] = static_cast<std::uint8_t>(v);
+        } else {
+          static_cast<double*>(out)[k - first] = v;
+        }
+      }
+    };
+    return a;
+  };
+  const ContactCells* cc = &contacts;
+  g.cell_data.push_back(cells("state", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.state[b]); },
+                              [](std::size_t) { return 5.0; }));
+  g.cell_data.push_back(cells("normal_force", io::ScalarType::Float64, [&m](std::size_t b) { return m.f_n[b]; },
+                              [cc](std::size_t k) { return cc->f_n[k]; }));
+  g.cell_data.push_back(cells("shear_force", io::ScalarType::Float64, [&m](std::size_t b) { return m.f_s[b]; },
+                              [cc](std::size_t k) { return cc->f_s[k]; }));
+  g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.break_time[b]; },
+                              [](std::size_t) { return -1.0; }));
+  g.cell_data.push_back(cells("bond_class", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.bond_class[b]); },
+                              [](std::size_t) { return 0.0; }));
   g.field_data.push_back({"time", {solver.time()}, {}, {}});
   g.field_data.push_back({"step", {static_cast<double>(solver.step_index())}, {}, {}});
   g.field_data.push_back({"geometry", {}, geometry_name(m.geometry), {}});
@@ -182,7 +223,7 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
 }
 
 void RunOutput::write_frame(const Solver& solver) {
-  io::LineGrid g = frame_grid(solver);
+  io::LineGrid g = frame_grid(solver, contact_cells_);
   const std::string file = frame_name(name_, solver.step_index());
   const std::string path = (fs::path(frame_dir_) / file).string();
   io::WriteOptions wo;

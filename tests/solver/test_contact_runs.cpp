@@ -195,3 +195,38 @@ TEST(ContactRun, DiskOnAnInclinedWallSlidesAboveTheFrictionAngle) {
 }
 
 }  // namespace
+
+#include "hexdem/solver/output.hpp"
+
+namespace {
+
+TEST(ContactRun, ContactsAreWrittenAsExtraCellsAfterTheBonds) {
+  const double r = 0.5e-3, v = 1.0, dt = 2e-10;
+  Pair p = head_on(r, 10 * v * dt, v, 0.0, dt, 40 * dt);
+  Solver s(p.c, p.lattice);
+  bool seen = false;
+  const std::int64_t steps = s.total_steps();
+  for (std::int64_t n = 0; n <= steps; ++n) {
+    ASSERT_TRUE(s.advance(false, [&](const Solver& sv) {
+      RunOutput::ContactCells cells;
+      const io::LineGrid g = RunOutput::frame_grid(sv, cells);
+      const bool touching = sv.contacts().size() == 1 && sv.contacts()[0].f_n < 0;
+      EXPECT_EQ(g.num_lines, 0u);  // no bonds between the two bodies
+      EXPECT_EQ(g.num_extra_lines, touching ? 1u : 0u);
+      if (!touching) return;
+      seen = true;
+      std::uint8_t state = 0;
+      double force = 0;
+      for (const io::ArraySource& a : g.cell_data) {
+        ASSERT_EQ(a.tuples, 1u);
+        if (a.name == "state") a.fill(0, 1, &state);
+        if (a.name == "normal_force") a.fill(0, 1, &force);
+      }
+      EXPECT_EQ(state, 5);
+      EXPECT_EQ(force, sv.contacts()[0].f_n);
+    }));
+  }
+  EXPECT_TRUE(seen);
+}
+
+}  // namespace

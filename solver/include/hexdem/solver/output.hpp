@@ -35,8 +35,13 @@ public:
   [[nodiscard]] const std::string& last_frame() const { return last_frame_; }
   [[nodiscard]] std::size_t frames() const { return pvd_.size(); }
 
+  /// Contacts written as extra line cells (buffers that must outlive the write).
+  struct ContactCells {
+    std::vector<std::int32_t> i, j;
+    std::vector<double> f_n, f_s;
+  };
   /// The frame's grid description (exposed for tests of the frame contract).
-  static io::LineGrid frame_grid(const Solver& solver);
+  static io::LineGrid frame_grid(const Solver& solver, ContactCells& contacts);
 
 private:
   struct ProbePoint {
@@ -48,6 +53,7 @@ private:
   std::vector<io::PvdEntry> pvd_;
   std::ofstream energy_, probes_;
   std::vector<ProbePoint> probe_points_;
+  ContactCells contact_cells_;
   int compression_level_ = 1;
 };
 
