@@ -441,17 +441,7 @@ Loop Reader::read_path(const toml::table& shape, const std::string& path, double
 
 Outline parse_outline_toml(std::string_view text, const std::string& source_name,
                            const ReadOptions& options) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source_name);
-  } catch (const toml::parse_error& error) {
-    const auto& begin = error.source().begin;
-    std::string description(error.description());
-    std::replace(description.begin(), description.end(), '\n', ' ');
-    throw InputError(source_name + ":" + std::to_string(begin.line) + ":" +
-                     std::to_string(begin.column) + ": TOML parse error: " + description);
-  }
-  return Reader(source_name, options).read(root);
+  return Reader(source_name, options).read(parse_toml(text, source_name));
 }
 
 Outline outline_from_toml(const toml::table& root, const std::string& source,
@@ -460,11 +450,7 @@ Outline outline_from_toml(const toml::table& root, const std::string& source,
 }
 
 Outline read_outline_toml(const std::string& path, const ReadOptions& options) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open file");
-  std::ostringstream contents;
-  contents << file.rdbuf();
-  return parse_outline_toml(contents.str(), path, options);
+  return parse_outline_toml(read_text_file(path), path, options);
 }
 
 }  // namespace hexdem::meshing

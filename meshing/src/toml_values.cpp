@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 #include "hexdem/error.hpp"
@@ -27,6 +28,26 @@ std::string describe(const toml::node& node) {
   constexpr std::size_t max_length = 60;
   if (text.size() > max_length) text = text.substr(0, max_length) + "...";
   return text;
+}
+
+toml::table parse_toml(std::string_view text, const std::string& source_name) {
+  try {
+    return toml::parse(text, source_name);
+  } catch (const toml::parse_error& error) {
+    const auto& begin = error.source().begin;
+    std::string description(error.description());
+    std::replace(description.begin(), description.end(), '\n', ' ');
+    throw InputError(source_name + ":" + std::to_string(begin.line) + ":" +
+                     std::to_string(begin.column) + ": TOML parse error: " + description);
+  }
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError(path + ": cannot open file");
+  std::ostringstream contents;
+  contents << file.rdbuf();
+  return contents.str();
 }
 
 void TomlValues::fail(const toml::source_region& at, const std::string& path,

@@ -904,25 +904,12 @@ void Reader::read_probes(const toml::table& root, Case& c) const {
 
 Case parse_case(std::string_view text, const std::string& source_name,
                 const std::string& base_dir) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source_name);
-  } catch (const toml::parse_error& error) {
-    const auto& begin = error.source().begin;
-    std::string description(error.description());
-    std::replace(description.begin(), description.end(), '\n', ' ');
-    throw InputError(source_name + ":" + std::to_string(begin.line) + ":" +
-                     std::to_string(begin.column) + ": TOML parse error: " + description);
-  }
+  toml::table root = meshing::parse_toml(text, source_name);
   return Reader(source_name, base_dir).read(root);
 }
 
 Case read_case(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open file");
-  std::ostringstream contents;
-  contents << file.rdbuf();
-  return parse_case(contents.str(), path, std::filesystem::path(path).parent_path().string());
+  return parse_case(meshing::read_text_file(path), path, std::filesystem::path(path).parent_path().string());
 }
 
 }  // namespace hexdem::solver

@@ -9,8 +9,6 @@
 #include <limits>
 #include <random>
 #include <sstream>
-#include <cstdio>
-#include <cstdlib>
 
 #include <Eigen/Dense>
 

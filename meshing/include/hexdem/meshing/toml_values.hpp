@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include <string>
+#include <string_view>
 #include <utility>
 
 namespace hexdem::meshing {
@@ -15,6 +16,12 @@ std::string format_number(double value);
 
 /// A short one-line rendering of a TOML value for messages (long arrays and tables are cut).
 std::string describe(const toml::node& node);
+
+/// Parses TOML text; a syntax error becomes InputError "SOURCE:LINE:COL: TOML parse error: ...".
+toml::table parse_toml(std::string_view text, const std::string& source_name);
+
+/// The contents of a file; InputError "PATH: cannot open file" if it cannot be read.
+std::string read_text_file(const std::string& path);
 
 class TomlValues {
 public:
