@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -255,10 +256,13 @@ void Solver::setup_materials() {
         why += "; the necessary condition k_s1 + 2 k_s2 = 2 sqrt(3) (c66 - c12) >= 0 fails (c66 = " +
                fmt(c.c66 / 1e9) + " GPa < c12 = " + fmt(c.c12 / 1e9) + " GPa)";
       }
-      throw InputError(case_.source + ": [case] shear_model = \"" + shear_model_name(case_.shear_model) +
-                       "\" is unstable for material '" + mat->name + "' (id " + std::to_string(mat->id) +
-                       ", " + geometry_name(case_.geometry) + "): " + why +
-                       "; remedy: use shear_model = \"local-strain\"");
+      const std::string message =
+          case_.source + ": [case] shear_model = \"" + shear_model_name(case_.shear_model) +
+          "\" is unstable for material '" + mat->name + "' (id " + std::to_string(mat->id) + ", " +
+          geometry_name(case_.geometry) + "): " + why;
+      if (!case_.time.allow_unstable) throw InputError(message + "; remedy: use shear_model = \"local-strain\"");
+      // A study of the instability itself (the paper's own model): run, and say so.
+      std::fprintf(stderr, "hexdem: warning: %s; running anyway ([time] allow_unstable = true)\n", message.c_str());
     }
   }
 }
