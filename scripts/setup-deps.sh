@@ -4,12 +4,13 @@
 set -euo pipefail
 
 # libopenmpi-dev: ParaView's CMake package checks MPI headers at configure time.
+# calculix-ccx: the finite-element reference of cases/narrow_plate (ctest case_narrow_plate_calculix).
 packages=(
   build-essential cmake ninja-build git pkg-config
   paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth
   libcgal-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev
-  python3-ezdxf python3-matplotlib clang-format time
+  python3-ezdxf python3-matplotlib clang-format time calculix-ccx
 )
 
 missing=()
