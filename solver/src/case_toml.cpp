@@ -161,6 +161,9 @@ constexpr Choices<Geometry, 3> kGeometries{{{"plane-stress", Geometry::PlaneStre
                                             {"axisymmetric", Geometry::Axisymmetric}}};
 constexpr Choices<ShearModel, 2> kShearModels{
     {{"local-strain", ShearModel::LocalStrain}, {"rotation", ShearModel::Rotation}}};
+constexpr Choices<PlasticityModel, 3> kPlasticityModels{{{"auto", PlasticityModel::Auto},
+                                                        {"spring", PlasticityModel::Spring},
+                                                        {"j2", PlasticityModel::J2}}};
 constexpr Choices<BoundaryCondition::Kind, 4> kBoundaryKinds{
     {{"fixed", BoundaryCondition::Kind::Fixed},
      {"roller", BoundaryCondition::Kind::Roller},
@@ -231,7 +234,7 @@ constexpr std::array<Key<MeshSettings>, 5> kMeshKeys{{
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
-constexpr std::array<Key<Material>, 17> kMaterialKeys{{
+constexpr std::array<Key<Material>, 18> kMaterialKeys{{
     {"id", true,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.id = static_cast<int>(in.integer(v, p, 0, INT_MAX));
@@ -256,6 +259,8 @@ constexpr std::array<Key<Material>, 17> kMaterialKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.yield_stress = in.number(v, p); }},
     {"tangent_modulus", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.tangent_modulus = in.number(v, p); }},
+    {"plasticity", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.plasticity = in.choice(v, p, kPlasticityModels); }},
     {"tensile_strength", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.tensile_strength = in.number(v, p); }},
     {"compressive_strength", false,
@@ -761,6 +766,20 @@ void Reader::read_materials(const toml::table& root, Case& c) const {
     if (m.breakable) require(kFailureKeys, "breakable");
     if (t.contains("yield_stress") != t.contains("tangent_modulus"))
       fail(t, path, "give both yield_stress and tangent_modulus (plasticity) or neither");
+    if (const toml::node* p = t.get("plasticity")) {
+      const std::string where = child(path, "plasticity");
+      const std::string value = "\"" + std::string(plasticity_model_name(m.plasticity)) + "\"";
+      if (!t.contains("yield_stress"))
+        fail(*p, where, "needs yield_stress and tangent_modulus (got " + value + ")");
+      // Disk-level J2 needs the out-of-plane strain (plane strain: zero; axisymmetry: u_r / r)
+      // and the local strain of every disk.
+      if (m.plasticity == PlasticityModel::J2 && c.geometry == Geometry::PlaneStress)
+        fail(*p, where,
+             "\"j2\" is available in plane strain and axisymmetry only, not in plane stress; use \"spring\" "
+             "or \"auto\" (got " + value + ")");
+      if (m.plasticity == PlasticityModel::J2 && c.shear_model == ShearModel::Rotation)
+        fail(*p, where, "\"j2\" needs [case] shear_model = \"local-strain\" (got " + value + ")");
+    }
 
     if (const auto problem = m.check())
       fail(*t.get(problem->key), child(path, problem->key), problem->problem);

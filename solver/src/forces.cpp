@@ -1,6 +1,7 @@
 // Force kernels of the bonded lattice.
-// Ref: Liu, Gao, Tanimura (2004), Eqs. 1-4 (bond kinematics and forces) and Eq. 15
-// (axisymmetric scaling); physics.md sections 2, 4 (local-strain shear model) and 10 (hoop).
+// Ref: Liu, Gao, Tanimura (2004), Eqs. 1-4 (bond kinematics and forces), Eq. 15
+// (axisymmetric scaling) and Eq. 16 (spring plasticity); physics.md sections 2, 4
+// (local-strain shear model) and 10 (hoop); docs/model.md for the disk-level J2 plasticity.
 //
 // All passes are gathers over a fixed adjacency order or independent per-bond updates, so the
 // forces are bit-identical whatever the number of OpenMP threads.
@@ -51,18 +52,133 @@ inline double local_shear(const Model& m, std::size_t b) {
          2.0 * m.g_xy[b] * (m.eps_xy[i] + m.eps_xy[j]);
 }
 
+/// Hoop strain u_r / b of disk i (axisymmetric; 0 in plane geometries).
+inline double hoop_strain(const Model& m, std::size_t i) {
+  return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.weight[i] : 0.0;
+}
+
+/// Axisymmetric hoop term of disk i: A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt
+/// (eps_rr + eps_zz)] [J] (physics.md section 10).
 double hoop_energy(const Model& m, std::size_t i) {
-  const double eps_tt = m.ux[i] / m.weight[i];
+  const double eps_tt = hoop_strain(m, i);
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
   return m.cell_area[i] * m.weight[i] *
          ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * (m.eps_xx[i] + m.eps_yy[i]));
+}
+
+/// Plastic correction of J2 disk i [J]: V [psi(eps - eps_p) - psi(eps)] = V mu (eps_p:eps_p -
+/// 2 eps:eps_p) with psi the isotropic 3D strain energy, eps the disk's local strain with the
+/// out-of-plane component (hoop strain, or 0 in plane strain) and tr(eps_p) = 0. Added to the
+/// elastic lattice, it makes the energy of a homogeneous field V psi(eps - eps_p).
+double j2_correction_energy(const Model& m, std::size_t i) {
+  const double pxx = m.eps_p_xx[i], pyy = m.eps_p_yy[i], pxy = m.eps_p_xy[i], p33 = m.eps_p_33[i];
+  const double pp = pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy;
+  const double ep = m.eps_xx[i] * pxx + m.eps_yy[i] * pyy + hoop_strain(m, i) * p33 + 2 * m.eps_xy[i] * pxy;
+  return m.cell_area[i] * m.weight[i] * m.hoop_mu[i] * (pp - 2 * ep);
+}
+
+/// Continuum stress C : (eps - eps_p) of J2 disk i [Pa] (3D isotropic; xy the tensor
+/// component): the stress conjugate to its plastic strain, -(1/V) dE/d(eps_p).
+struct DiskStress {
+  double xx = 0, yy = 0, xy = 0, s33 = 0;
+};
+inline DiskStress j2_stress(const Model& m, std::size_t i) {
+  const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
+  const double exx = m.eps_xx[i] - m.eps_p_xx[i], eyy = m.eps_yy[i] - m.eps_p_yy[i];
+  const double exy = m.eps_xy[i] - m.eps_p_xy[i], e33 = hoop_strain(m, i) - m.eps_p_33[i];
+  const double lt = lam * (exx + eyy + e33);
+  return {lt + 2 * mu * exx, lt + 2 * mu * eyy, 2 * mu * exy, lt + 2 * mu * e33};
+}
+
+/// Stores j2_stress of disk i: the "before" value of the next plastic increment's work.
+void store_j2_stress(Model& m, std::size_t i) {
+  const DiskStress s = j2_stress(m, i);
+  m.sig_xx[i] = s.xx;
+  m.sig_yy[i] = s.yy;
+  m.sig_xy[i] = s.xy;
+  m.sig_33[i] = s.s33;
+}
+
+/// J2 return mapping of disk i (after the disk strains of pass A, before the bond forces).
+/// Trial stress sigma = C : (eps - eps_p), relative stress xi = dev(sigma) - beta, von Mises
+/// q = sqrt(3/2 xi:xi); if q > sigma_y, radial return with linear kinematic (Prager)
+/// hardening, exact for a linear hardening law:
+///   d(eps_eq) = (q - sigma_y) / (3 mu + H),   d(eps_p) = d(eps_eq) (3/2) xi / q,
+///   d(beta) = (2/3) H d(eps_p).
+/// The flow is deviatoric, so tr(eps_p) stays zero; on a mirror plane eps_p_xy stays zero.
+/// sigma is exactly the conjugate of eps_p in the model's energy (the springs do not depend
+/// on eps_p, the correction j2_correction_energy does, disk by disk), so the return mapping
+/// minimises the energy plus dissipation of each disk and plastic flow never does negative
+/// work. The work done on eps_p is summed with the trapezoid rule over the step,
+/// (1/2) V (sigma before + after) : d(eps_p), as the leap-frog energy balance needs.
+void j2_return_mapping(Model& m, std::size_t i) {
+  const double mu = m.hoop_mu[i], H = m.j2_h[i], sigma_y = m.j2_sigma_y[i];
+  double dxx = 0, dyy = 0, dxy = 0, d33 = 0, deq = 0;
+  // Only disks with a complete neighbourhood (six intact bonds) flow: at an edge the
+  // least-squares strain's energy V psi(eps) can exceed what the disk's few bonds carry, and
+  // relaxing it makes the lattice indefinite (measured: a corner disk with three bonds blew
+  // up a block impact). Edge disks, and disks that lose a bond, keep their plastic strain.
+  // A disk one radius off a mirror plane counts its spring to the plane (the bond to its
+  // mirror image) as a bond.
+  int intact = (m.wall_kx[i] != 0 || m.wall_ky[i] != 0) ? 1 : 0;
+  for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k)
+    intact += m.bond_intact(static_cast<std::size_t>(m.adj_bond[k])) ? 1 : 0;
+  if (intact == 6) {
+    const DiskStress s = j2_stress(m, i);
+    const double mean = (s.xx + s.yy + s.s33) / 3.0;
+    const double xxx = s.xx - mean - m.beta_xx[i], xyy = s.yy - mean - m.beta_yy[i];
+    const double x33 = s.s33 - mean - m.beta_33[i], xxy = s.xy - m.beta_xy[i];
+    const double q = std::sqrt(1.5 * (xxx * xxx + xyy * xyy + x33 * x33 + 2 * xxy * xxy));
+    if (q > sigma_y) {
+      deq = (q - sigma_y) / (3 * mu + H);
+      const double c = 1.5 * deq / q;
+      dxx = c * xxx;
+      dyy = c * xyy;
+      d33 = c * x33;
+      dxy = m.mirror_plane[i] ? 0.0 : c * xxy;
+      const double hb = 2.0 / 3.0 * H;
+      m.eps_p_xx[i] += dxx;
+      m.eps_p_yy[i] += dyy;
+      m.eps_p_xy[i] += dxy;
+      m.eps_p_33[i] += d33;
+      m.beta_xx[i] += hb * dxx;
+      m.beta_yy[i] += hb * dyy;
+      m.beta_xy[i] += hb * dxy;
+      m.beta_33[i] += hb * d33;
+      m.eps_p_eq[i] += deq;
+    }
+  }
+  const double xx = m.sig_xx[i], yy = m.sig_yy[i], xy = m.sig_xy[i], s33 = m.sig_33[i];
+  store_j2_stress(m, i);
+  if (deq > 0) {
+    m.disk_plastic_work[i] += 0.5 * m.cell_area[i] * m.weight[i] *
+                              ((xx + m.sig_xx[i]) * dxx + (yy + m.sig_yy[i]) * dyy +
+                               2 * (xy + m.sig_xy[i]) * dxy + (s33 + m.sig_33[i]) * d33);
+  }
+}
+
+void return_mapping(Model& m) {
+  const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (m.j2_sigma_y[static_cast<std::size_t>(i)] > 0) j2_return_mapping(m, static_cast<std::size_t>(i));
+  }
+}
+
+/// Stored hardening energy of J2 disk i, A w (1/3) H eps_p : eps_p [J]: with Prager's
+/// beta = (2/3) H eps_p it is the potential whose eps_p-derivative is beta.
+double j2_hardening_energy(const Model& m, std::size_t i) {
+  if (!(m.j2_sigma_y[i] > 0)) return 0.0;
+  const double pxx = m.eps_p_xx[i], pyy = m.eps_p_yy[i], pxy = m.eps_p_xy[i], p33 = m.eps_p_33[i];
+  return m.cell_area[i] * m.weight[i] * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
 }
 
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
 /// Shear, rotation model (Eq. 1-2): f_s += k_s [(du_j - du_i).s - (r_i dtheta_i + r_j dtheta_j)]
 /// with the increments of the last step. Shear, local-strain model: u_s = d s.(eps_i+eps_j)/2.n
 /// in the reference directions, f_s = k_s u_s.
-/// Plastic bonds (Eq. 16) take the same increments through the bilinear kinematic law;
+/// Plastic bonds (Eq. 16) take the same increments through the bilinear kinematic law (the
+/// bonds of J2 disks stay elastic: their plasticity acts through the disks' strains);
 /// breakable bonds are checked against Eqs. 17, 19, 20 and, once broken (state II), act as
 /// contacts: compression only, Coulomb friction, a dashpot at a fraction of critical damping.
 void compute_bond_forces(Model& m, double dt) {
@@ -126,6 +242,10 @@ void compute_bond_forces(Model& m, double dt) {
     } else {
       m.f_n[b] = m.k_n[b] * (len - m.rest_length[b]);
       m.f_s[b] = rotation ? m.f_s[b] + m.k_s[b] * du_s : m.k_s[b] * m.u_s[b];
+      // Bonds of J2 disks are elastic; they report the disks' yielding (bonds join the disks
+      // of one body).
+      if (m.any_j2 && (m.eps_p_eq[i] > 0 || m.eps_p_eq[j] > 0))
+        m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
     }
     m.len_prev[b] = len;
     if (m.failure_law[b] >= 0) {
@@ -169,8 +289,9 @@ void compute_bond_forces(Model& m, double dt) {
 }
 
 /// Pass C: W_i = S_i M_i^-1 with S_i = dE/d(eps_i): the local-strain shear springs
-/// (sum over bonds of f_s (d/2) sym(s0 (x) n0)) and, in axisymmetric models, the hoop term
-/// E_h = A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt (eps_rr + eps_zz)], eps_tt = u_r / b.
+/// (sum over bonds of f_s (d/2) sym(s0 (x) n0)), in axisymmetric models the hoop term
+/// E_h = A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt (eps_rr + eps_zz)], eps_tt = u_r / b,
+/// and for J2 disks the plastic correction, -2 mu A w eps_p.
 void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
 #pragma omp parallel for schedule(static)
@@ -187,10 +308,15 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       }
     }
     if (hoop) {
-      const double eps_tt = m.ux[i] / m.weight[i];
-      const double c = m.cell_area[i] * m.weight[i] * m.hoop_lambda[i] * eps_tt;
+      const double c = m.cell_area[i] * m.weight[i] * m.hoop_lambda[i] * hoop_strain(m, i);
       sxx += c;
       syy += c;
+    }
+    if (m.any_j2 && m.j2_sigma_y[i] > 0) {
+      const double c = -2 * m.hoop_mu[i] * m.cell_area[i] * m.weight[i];
+      sxx += c * m.eps_p_xx[i];
+      syy += c * m.eps_p_yy[i];
+      sxy += c * m.eps_p_xy[i];
     }
     if (m.mirror_plane[i]) sxy = 0.0;  // the projection's adjoint (energy consistency)
     const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
@@ -241,9 +367,10 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
       }
     }
     if (hoop) {
+      // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
       const double eps_tt = m.ux[i] / m.weight[i];
-      const double sigma_tt = (m.hoop_lambda[i] + 2 * m.hoop_mu[i]) * eps_tt +
-                              m.hoop_lambda[i] * (m.eps_xx[i] + m.eps_yy[i]);
+      double sigma_tt = (m.hoop_lambda[i] + 2 * m.hoop_mu[i]) * eps_tt + m.hoop_lambda[i] * (m.eps_xx[i] + m.eps_yy[i]);
+      if (m.any_j2) sigma_tt -= 2 * m.hoop_mu[i] * m.eps_p_33[i];
       fx -= m.cell_area[i] * sigma_tt;
     }
     m.fx[i] = fx - m.wall_kx[i] * m.ux[i];
@@ -257,10 +384,12 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
 void compute_internal_forces(Model& m, double dt) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
   const bool hoop = m.geometry == Geometry::Axisymmetric;
-  if (local || hoop) compute_disk_strains(m);
+  const bool strains = local || hoop || m.any_j2;
+  if (strains) compute_disk_strains(m);
+  if (m.any_j2) return_mapping(m);
   compute_bond_forces(m, dt);
-  if (local || hoop) compute_strain_conjugates(m, local, hoop);
-  gather_forces(m, !local, local || hoop, hoop);
+  if (strains) compute_strain_conjugates(m, local, hoop);
+  gather_forces(m, !local, strains, hoop);
 }
 
 double elastic_energy(const Model& m) {
@@ -295,6 +424,14 @@ double elastic_energy(const Model& m) {
         [&](std::size_t i) { return hoop_energy(m, i); },
         m.scratch);
   }
+  if (m.any_j2) {
+    e += deterministic_sum(
+        m.num_disks(),
+        [&](std::size_t i) {
+          return m.j2_sigma_y[i] > 0 ? j2_correction_energy(m, i) + j2_hardening_energy(m, i) : 0.0;
+        },
+        m.scratch);
+  }
   return e;
 }
 
@@ -302,6 +439,12 @@ BondDissipation bond_dissipation(const Model& m) {
   BondDissipation d;
   const std::size_t nb = m.num_bonds();
   d.plastic = deterministic_sum(nb, [&](std::size_t b) { return m.plastic_work[b]; }, m.scratch);
+  if (m.any_j2) {
+    // J2 disks: the work done on eps_p (bonds above, out-of-plane term here) less what the
+    // back stress holds (booked as stored energy in elastic_energy).
+    d.plastic += deterministic_sum(
+        m.num_disks(), [&](std::size_t i) { return m.disk_plastic_work[i] - j2_hardening_energy(m, i); }, m.scratch);
+  }
   d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.fracture_energy[b]; }, m.scratch);
   d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work[b]; }, m.scratch);
   d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.friction_work[b]; }, m.scratch);
@@ -309,7 +452,7 @@ BondDissipation bond_dissipation(const Model& m) {
 }
 
 std::size_t settle_broken_bonds(Model& m) {
-  const bool strains = m.shear_model == ShearModel::LocalStrain || m.geometry == Geometry::Axisymmetric;
+  const bool strains = m.shear_model == ShearModel::LocalStrain || m.geometry == Geometry::Axisymmetric || m.any_j2;
   std::size_t broken = 0;
   std::array<std::size_t, 64> touched{};  // intact bonds whose shear depends on the two disks
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
@@ -335,8 +478,10 @@ std::size_t settle_broken_bonds(Model& m) {
         const std::size_t c = touched[k];
         if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * m.f_s[c] * m.f_s[c] / m.k_s[c];
       }
-      if (m.geometry == Geometry::Axisymmetric)
-        for (std::size_t i : disks) e += hoop_energy(m, i);
+      for (std::size_t i : disks) {
+        if (m.geometry == Geometry::Axisymmetric) e += hoop_energy(m, i);
+        if (m.any_j2 && m.j2_sigma_y[i] > 0) e += j2_correction_energy(m, i);
+      }
       return e;
     };
     const double before = energy();
@@ -349,6 +494,11 @@ std::size_t settle_broken_bonds(Model& m) {
       m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
       if (m.f_yield[c] == 0) m.f_s[c] = m.k_s[c] * m.u_s[c];
     }
+    // J2 disks keep their plastic strain; the stress that the next plastic increment's work
+    // starts from is the one after the break.
+    if (m.any_j2)
+      for (std::size_t i : disks)
+        if (m.j2_sigma_y[i] > 0) store_j2_stress(m, i);
     m.fracture_energy[b] += before - energy();
   }
   return broken;
@@ -384,6 +534,14 @@ Stress disk_stress(const Model& m, std::size_t i) {
     // The hoop term's share of the in-plane stresses: d/d(eps_rr) of lambda eps_tt eps_rr.
     st.xx += m.hoop_lambda[i] * eps_tt;
     st.yy += m.hoop_lambda[i] * eps_tt;
+  }
+  if (m.any_j2 && m.j2_sigma_y[i] > 0) {
+    // The plastic correction's share: -2 mu eps_p (tr(eps_p) = 0).
+    const double c = -2 * m.hoop_mu[i];
+    st.xx += c * m.eps_p_xx[i];
+    st.yy += c * m.eps_p_yy[i];
+    st.xy += c * m.eps_p_xy[i];
+    st.zz += c * m.eps_p_33[i];
   }
   return st;
 }

@@ -47,6 +47,18 @@ const char* shear_model_name(ShearModel m) {
   return "unknown";
 }
 
+const char* plasticity_model_name(PlasticityModel p) {
+  switch (p) {
+    case PlasticityModel::Auto:
+      return "auto";
+    case PlasticityModel::Spring:
+      return "spring";
+    case PlasticityModel::J2:
+      return "j2";
+  }
+  return "unknown";
+}
+
 Stiffness2D Material::stiffness(Geometry g) const {
   if (!isotropic) return c;
   Stiffness2D s;

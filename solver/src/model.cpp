@@ -46,9 +46,29 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.mass[i] = bm.material->density * m.cell_area[i] * m.weight[i];
     m.inertia[i] = 0.5 * m.mass[i] * m.radius[i] * m.radius[i];
     if (geometry == Geometry::PlaneStrain && bm.material->isotropic) m.nu_zz[i] = bm.material->nu;
-    if (axisym) {
+    // The out-of-plane term: the hoop strain of every ring (axisymmetric), and in plane
+    // strain the J2 disks, whose plastic eigenstrain has a zz component.
+    const bool j2 = bm.j2 && bm.material->plastic();
+    if (axisym || (j2 && geometry == Geometry::PlaneStrain)) {
       m.hoop_lambda[i] = bm.material->lame_lambda();
       m.hoop_mu[i] = bm.material->lame_mu();
+    }
+    if (j2) {
+      HEXDEM_VERIFY(geometry != Geometry::PlaneStress && shear_model == ShearModel::LocalStrain,
+                    "J2 plasticity needs plane strain or axisymmetry and the local-strain shear model");
+      if (!m.any_j2) {
+        m.any_j2 = true;
+        for (auto* v : {&m.j2_sigma_y, &m.j2_h, &m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx,
+                        &m.beta_yy, &m.beta_xy, &m.beta_33, 
+                        &m.eps_p_eq, &m.sig_xx, &m.sig_yy, &m.sig_xy, &m.sig_33, &m.disk_plastic_work}) {
+          v->assign(n, 0.0);
+        }
+      }
+      // Prager's rule beta = (2/3) H eps_p with H the plastic modulus of the uniaxial
+      // stress-strain curve of tangent E_t: 1/E_t = 1/E + 1/H.
+      const double E = bm.material->E, Et = bm.material->tangent_modulus;
+      m.j2_sigma_y[i] = bm.material->yield_stress;
+      m.j2_h[i] = E * Et / (E - Et);
     }
   }
 
@@ -110,7 +130,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
       m.failure_law[b] = m.body[i];
       m.any_breakable = true;
     }
-    if (bm.material->plastic()) {
+    if (bm.material->plastic() && !bm.j2) {
       // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
       const double ratio = bm.material->tangent_modulus / bm.material->E;
       m.f_yield[b] = bm.material->yield_stress * m.section[b];
@@ -159,6 +179,11 @@ void reset_bond_history(Model& m) {
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
+  for (auto* v : {&m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx, &m.beta_yy, &m.beta_xy,
+                  &m.beta_33,  &m.eps_p_eq, &m.sig_xx,
+                  &m.sig_yy, &m.sig_xy, &m.sig_33, &m.disk_plastic_work}) {
+    std::fill(v->begin(), v->end(), 0.0);
+  }
   if (broke) update_strain_matrices(m);
 }
 

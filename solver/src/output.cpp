@@ -113,6 +113,8 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) broken += !m.bond_intact(m.adj_bond[k]);
     return static_cast<double>(broken) / m.initial_bonds[i];
   }));
+  // J2 disks: accumulated equivalent plastic strain, the sum of sqrt(2/3 d(eps_p):d(eps_p)).
+  if (m.any_j2) g.point_data.push_back(io::array_view("plastic_strain", m.eps_p_eq.data(), n));
   // Contacts of never-bonded disks that carry force: a second set of lines after the bonds
   // (state 5), so that the bonds keep their order in every frame.
   contacts.i.clear();
@@ -311,6 +313,7 @@ int run_case(const Case& c, const RunOptions& options) {
                 ts.dt_eq24);
     std::printf("  %lld steps to t = %.6g s, threads %d\n", static_cast<long long>(steps), c.time.end,
                 omp_get_max_threads());
+    for (const std::string& line : solver.plasticity_report()) std::printf("  %s\n", line.c_str());
     std::fflush(stdout);
   }
 

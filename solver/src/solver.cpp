@@ -235,15 +235,40 @@ void Solver::setup_materials() {
     bm.springs = spring_constants(c);
     body_materials_.push_back(bm);
 
-    // Per-spring plasticity (Eq. 16) needs positive shear springs: with k_s <= 0 the lattice
-    // is positive definite only through its elastic normal springs, and once those yield to a
-    // small tangent modulus it is not (measured: the warhead's steel blows up on impact).
-    if (mat->plastic() && (bm.springs.ks1 <= 0 || bm.springs.ks2 <= 0)) {
-      throw InputError(case_.source + ": material '" + mat->name + "' (id " + std::to_string(mat->id) +
-                       "): plasticity needs positive shear springs, i.e. nu < 1/4 in plane strain and "
-                       "axisymmetry or nu < 1/3 in plane stress (nu = " + fmt(mat->nu) +
-                       ", k_s = " + fmt(std::min(bm.springs.ks1, bm.springs.ks2)) +
-                       " N/m per m); remedy: drop yield_stress (elastic) for this material");
+    if (mat->plastic()) {
+      // Per-spring plasticity (Eq. 16) needs positive shear springs: with k_s <= 0 the lattice
+      // is positive definite only through its elastic normal springs, and once those yield to
+      // a small tangent modulus it is not (measured: the warhead's steel blew up on impact).
+      // Disk-level J2 keeps every spring elastic on the elastic deformation instead.
+      const bool positive = bm.springs.ks1 > 0 && bm.springs.ks2 > 0;
+      PlasticityModel model = mat->plasticity;
+      if (model == PlasticityModel::Auto)
+        model = positive || case_.geometry == Geometry::PlaneStress ? PlasticityModel::Spring : PlasticityModel::J2;
+      const std::string what = case_.source + ": material '" + mat->name + "' (id " + std::to_string(mat->id) + ")";
+      if (model == PlasticityModel::Spring && !positive) {
+        throw InputError(what + ": plasticity = \"" + plasticity_model_name(mat->plasticity) +
+                         "\": per-spring plasticity needs positive shear springs, i.e. nu < 1/4 in plane strain and "
+                         "axisymmetry or nu < 1/3 in plane stress (nu = " + fmt(mat->nu) +
+                         ", k_s = " + fmt(std::min(bm.springs.ks1, bm.springs.ks2)) + " N/m per m); remedy: " +
+                         (case_.geometry == Geometry::PlaneStress
+                              ? std::string("drop yield_stress (elastic) for this material")
+                              : std::string("plasticity = \"j2\" (or \"auto\"), or drop yield_stress")));
+      }
+      if (model == PlasticityModel::J2 && case_.geometry == Geometry::PlaneStress)
+        throw InputError(what + ": plasticity = \"j2\" is available in plane strain and axisymmetry only");
+      if (model == PlasticityModel::J2 && case_.shear_model != ShearModel::LocalStrain)
+        throw InputError(what + ": plasticity = \"j2\" needs [case] shear_model = \"local-strain\"");
+      bm.j2 = model == PlasticityModel::J2;
+      body_materials_.back().j2 = bm.j2;
+      std::string line =
+          "material '" + mat->name + "' (id " + std::to_string(mat->id) + "): plasticity " +
+          (bm.j2 ? "j2 (von Mises per disk, linear kinematic hardening" : "spring (bilinear springs, Eq. 16") +
+          (mat->plasticity == PlasticityModel::Auto ? std::string(", chosen by auto: k_s ") +
+                                                          (positive ? "> 0)" : "<= 0)")
+                                                    : std::string(")")) +
+          ", sigma_y " + fmt(mat->yield_stress / 1e6) + " MPa, E_t " + fmt(mat->tangent_modulus / 1e9) + " GPa";
+      if (std::find(plasticity_report_.begin(), plasticity_report_.end(), line) == plasticity_report_.end())
+        plasticity_report_.push_back(std::move(line));
     }
     // Stability of the chosen shear model for this material (physics.md section 4).
     const double r = body.radius.value_or(0.0);

@@ -18,6 +18,15 @@ const char* geometry_name(Geometry g);
 enum class ShearModel { Rotation, LocalStrain };
 const char* shear_model_name(ShearModel m);
 
+/// How a plastic material yields (docs/model.md, "Plasticity"): `Spring`, every spring
+/// bilinear with kinematic hardening (the paper's Eq. 16); `J2`, von Mises plasticity with
+/// linear kinematic hardening per disk, the plastic strain acting as an eigenstrain of the
+/// springs (plane strain and axisymmetry); `Auto`, Spring when both shear springs are
+/// positive, else J2.
+enum class PlasticityModel { Auto, Spring, J2 };
+/// Name as written in case files: "auto", "spring", "j2".
+const char* plasticity_model_name(PlasticityModel p);
+
 /// 2D stiffness in the lattice frame (x = lattice axis) [Pa]:
 /// e = c11 e11^2/2 + c22 e22^2/2 + c12 e11 e22 + 2 c66 e12^2.
 struct Stiffness2D {
@@ -45,11 +54,13 @@ struct Material {
   double E = 0, nu = 0;      ///< isotropic: Young's modulus [Pa], Poisson's ratio [-]
   Stiffness2D c;             ///< orthotropic: c11, c12, c22, c66 [Pa] in the lattice frame
 
-  // Plasticity (Eq. 16, physics.md section 7): bilinear kinematic hardening of every spring
-  // (isotropic materials). Yield force f_y = sigma_y 2r w; hardening springs as the elastic
-  // ones with the tangent modulus in place of E.
+  // Plasticity (isotropic materials). Spring model (Eq. 16, physics.md section 7): bilinear
+  // kinematic hardening of every spring, yield force f_y = sigma_y 2r w, hardening springs as
+  // the elastic ones with the tangent modulus in place of E. J2 model: von Mises yield stress
+  // sigma_y and Prager hardening H = E E_t / (E - E_t) per disk.
   double yield_stress = 0;     ///< sigma_y [Pa]; 0: elastic springs
   double tangent_modulus = 0;  ///< E_t [Pa], 0 <= E_t < E
+  PlasticityModel plasticity = PlasticityModel::Auto;  ///< resolved by the solver
 
   // Failure (Eqs. 17-20, physics.md section 8): on when the strengths are given.
   bool breakable = false;

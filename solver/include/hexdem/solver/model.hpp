@@ -67,7 +67,9 @@ struct Model {
   std::vector<double> minv_xx, minv_xy, minv_yy;  ///< [1/m^2]; zero if singular
   std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
   std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
-  std::vector<double> hoop_lambda, hoop_mu;       ///< axisymmetric: Lame constants [Pa]
+  /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
+  /// the disks of J2 materials; else 0).
+  std::vector<double> hoop_lambda, hoop_mu;
   std::vector<double> nu_zz;  ///< plane strain, isotropic: sigma_zz = nu (sxx + syy); else 0
   std::vector<double> vx_old, vy_old, omega_old;  ///< velocities at t - 3dt/2 after a step
 
@@ -102,6 +104,23 @@ struct Model {
   std::vector<double> plastic_work, fracture_energy, contact_damping_work, friction_work;
   std::vector<std::uint8_t> newly_broken;  ///< set by the force pass, cleared by the solver
 
+  // Disk-level J2 plasticity (docs/model.md, "Plasticity per disk"): von Mises yield with
+  // linear kinematic (Prager) hardening per disk. The springs stay elastic; each J2 disk adds
+  // V [psi(eps - eps_p) - psi(eps)] to the energy (V = A w, psi the isotropic 3D strain
+  // energy, eps its local strain). Components xx, yy, xy (tensor, not engineering shear) and
+  // 33 (zz in plane strain, theta-theta in axisymmetry). Allocated by build_model only when
+  // some body uses it; empty otherwise.
+  bool any_j2 = false;                   ///< some disk has J2 plasticity
+  std::vector<double> j2_sigma_y;        ///< von Mises yield stress [Pa]; 0: not a J2 disk
+  std::vector<double> j2_h;              ///< Prager modulus H = E E_t / (E - E_t) [Pa]
+  std::vector<double> eps_p_xx, eps_p_yy, eps_p_xy, eps_p_33;  ///< plastic strain [-]
+  std::vector<double> beta_xx, beta_yy, beta_xy, beta_33;      ///< back stress (2/3) H eps_p [Pa]
+  std::vector<double> eps_p_eq;          ///< accumulated equivalent plastic strain [-]
+  /// C : (eps - eps_p) at the last force evaluation [Pa], for the trapezoid work of the next
+  /// plastic increment.
+  std::vector<double> sig_xx, sig_yy, sig_xy, sig_33;
+  std::vector<double> disk_plastic_work;  ///< work done on eps_p [J]
+
   // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
   std::vector<std::int64_t> adj_offset;  ///< size num_disks + 1
   std::vector<std::int32_t> adj_bond;    ///< bond index
@@ -120,6 +139,9 @@ struct Model {
 struct BodyMaterial {
   const Material* material = nullptr;
   SpringConstants springs;  ///< per unit thickness [Pa]
+  /// A plastic material's model as resolved by the solver: J2 per disk if true, else the
+  /// bilinear springs of Eq. 16.
+  bool j2 = false;
 };
 
 /// Builds the model from a lattice: masses from the cell areas (physics.md section 1, not the
@@ -135,7 +157,8 @@ void update_strain_matrices(Model& m);
 void update_strain_matrix(Model& m, std::size_t i);
 
 /// Returns every bond to its initial, unloaded and intact state (forces, back-forces,
-/// previous lengths, states, cumulative energies).
+/// previous lengths, states, cumulative energies), and every J2 disk to its virgin state
+/// (plastic strain, back stress, plastic work).
 void reset_bond_history(Model& m);
 
 /// Computes internal forces at the current displacements into fx, fy, torque (overwriting),
@@ -145,11 +168,13 @@ void reset_bond_history(Model& m);
 /// number of threads.
 void compute_internal_forces(Model& m, double dt);
 
-/// Elastic energy stored in the springs, contacts and hoop term, including the locked-in
-/// energy of the hardening springs [J], deterministic.
+/// Elastic energy stored in the springs, contacts and out-of-plane (hoop) term, including
+/// the locked-in energy of the hardening springs and of the J2 disks' back stress,
+/// A w (1/3) H eps_p : eps_p [J], deterministic.
 double elastic_energy(const Model& m);
 
-/// Cumulative dissipation of the bonds [J]: plastic work, energy released by breaking,
+/// Cumulative dissipation of the bonds and disks [J]: plastic work (springs; J2 disks: the
+/// work done on eps_p less the stored hardening energy), energy released by breaking,
 /// contact dashpot and friction; deterministic.
 struct BondDissipation {
   double plastic = 0, fracture = 0, contact_damping = 0, friction = 0;
@@ -161,7 +186,8 @@ BondDissipation bond_dissipation(const Model& m);
 std::size_t settle_broken_bonds(Model& m);
 
 /// Love-Weber stress of disk i [Pa]: sigma = 1/(A w) sum sym(x_c (x) f_c), in components
-/// xx, yy, xy, and zz (plane strain isotropic: nu(sxx+syy); axisymmetric: the hoop stress).
+/// xx, yy, xy, and zz (plane strain isotropic: nu(sxx+syy); axisymmetric: the hoop stress;
+/// J2 disks: (lambda + 2 mu) e33 + lambda tr(e) of the elastic strain e).
 struct Stress {
   double xx = 0, yy = 0, xy = 0, zz = 0;
 };

@@ -105,6 +105,8 @@ public:
   [[nodiscard]] double spin_mid(std::size_t i) const { return 0.5 * (model_.omega_old[i] + model_.omega[i]); }
   /// Number of steps to reach the case's end time.
   [[nodiscard]] std::int64_t total_steps() const;
+  /// One line per plastic material of the bodies: the plasticity model it uses and why.
+  [[nodiscard]] const std::vector<std::string>& plasticity_report() const { return plasticity_report_; }
   /// Per-body Bloch results, in body order.
   [[nodiscard]] const std::vector<BlochResult>& bloch() const { return bloch_; }
 
@@ -146,6 +148,7 @@ private:
   Model model_;
   std::vector<BodyMaterial> body_materials_;
   std::vector<BlochResult> bloch_;
+  std::vector<std::string> plasticity_report_;
   std::vector<LoadSet> loads_;
   std::vector<VelocitySet> velocity_sets_;
   std::vector<std::int32_t> loaded_disks_;
