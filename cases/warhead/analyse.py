@@ -24,11 +24,16 @@ Definitions (README.md, "Numbers"):
 - pulverised: target disks in fragments of at most PULVERISED_DISKS (6) disks, i.e. smaller
   than a disk with its six neighbours; given as a mass fraction of the target and as a share
   of the damaged material (disks with at least one broken bond);
-- cone crack: the broken bonds of the final frame, at their initial positions, in 2 mm depth
-  bins below the warhead's deepest tip position (r < 100 mm); per bin the 95th percentile of
-  their radius, r_c(z); a least-squares line r_c = r_0 + tan(theta) (depth). A cone forms when
-  at least four bins have 5 or more broken bonds, tan(theta) > 0.2 and R^2 >= 0.8; theta is the
-  half-angle of the cone from the axis;
+- cone crack: the crack that separates a plug from the disc. In the final frame, per 2 mm
+  depth bin of the initial positions, r_c(z) = the smallest initial radius of the disks that
+  still belong to the disc's own fragment (the largest target fragment); a least-squares line
+  r_c = r_0 + tan(theta) depth over the bins between 2 mm below the top and 2 mm above the
+  back face (leaving out the crater lip and the spalled back layer). A cone has formed when a
+  plug has separated through the whole thickness (r_c >= 3 mm in every bin) and
+  tan(theta) > 0.2; theta is the cone's half-angle from the axis (90 deg - theta from the
+  faces), R^2 the straightness of the fit;
+- damage radius: the largest initial radius of a broken bond's first disk, leaving out the
+  clamped rim (r >= 190 mm; those bonds are counted separately);
 - energy balance: the last row of <case>.energy.csv (Eq. 25), and the largest |relative
   error| over the run.
 """
@@ -51,6 +56,8 @@ DISC_THICKNESS = 0.033  # m (outline.toml)
 PULVERISED_DISKS = 6
 SIZE_BINS = [(1, 1), (2, 6), (7, 19), (20, 99), (100, None)]
 REBOUND_SPEED = 0.5  # m/s
+RIM_ZONE = 0.19  # m: broken bonds beyond this radius are at the clamped rim (r = 200 mm)
+PLUG_RADIUS = 0.003  # m: a plug has separated when no disc disk is left this close to the axis
 
 
 def fail(message):
@@ -144,40 +151,36 @@ def body_index(grid, name):
     return {"target": 0, "warhead": 1}[name]  # the outline's order
 
 
-def cone_fit(a, target, deepest_tip):
-    """Half-angle of a cone crack from the broken bonds (module docstring)."""
+def cone_fit(a, target, disc_disks):
+    """Half-angle of the cone crack that separates a plug from the disc (module docstring):
+    per 2 mm depth bin, the smallest initial radius of the disks still in the disc's own
+    fragment, r_c(z), and a least-squares line through r_c against depth."""
     x0 = a["points"][:, :2] - a["displacement"][:, :2]
-    nb = len(a["state"])
-    broken = (a["state"] >= 2) & (a["state"] <= 4)
-    i, j = a["cell_i"][:nb][broken], a["cell_j"][:nb][broken]
-    keep = target[i] & target[j]
-    mid = 0.5 * (x0[i[keep]] + x0[j[keep]])
-    r, depth = mid[:, 0], -mid[:, 1]
-    near = r < 0.1
-    r, depth = r[near], depth[near]
-    top = max(deepest_tip, 0.0) + 0.002
-    edges = np.arange(top, DISC_THICKNESS + 1e-9, 0.002)
+    r, depth = x0[disc_disks, 0], -x0[disc_disks, 1]
+    edges = np.arange(0.0, DISC_THICKNESS + 0.002, 0.002)
     z, rc = [], []
     for lo, hi in zip(edges[:-1], edges[1:]):
-        inside = (depth >= lo) & (depth < hi)
-        if inside.sum() >= 5:
+        inside = (depth >= lo - 1e-9) & (depth < hi - 1e-9)
+        if inside.any():
             z.append(0.5 * (lo + hi))
-            rc.append(float(np.percentile(r[inside], 95)))
+            rc.append(float(r[inside].min()))
     result = {"bins": len(z), "depth_m": z, "radius_m": rc}
-    if len(z) < 4:
-        result.update(formed=False, reason="fewer than 4 depth bins with 5 broken bonds")
-        return result
     z, rc = np.array(z), np.array(rc)
-    slope, intercept = np.polyfit(z, rc, 1)
-    fit = intercept + slope * z
-    ss_res, ss_tot = float(((rc - fit) ** 2).sum()), float(((rc - rc.mean()) ** 2).sum())
+    # The fit leaves out the top bin (crater lip) and the bottom bin (spalled back layer).
+    mid = (z > 0.002) & (z < DISC_THICKNESS - 0.002)
+    slope, intercept = np.polyfit(z[mid], rc[mid], 1)
+    fit = intercept + slope * z[mid]
+    ss_res = float(((rc[mid] - fit) ** 2).sum())
+    ss_tot = float(((rc[mid] - rc[mid].mean()) ** 2).sum())
     r2 = 1.0 - ss_res / ss_tot if ss_tot > 0 else 0.0
-    formed = slope > 0.2 and r2 >= 0.8
-    result.update(formed=bool(formed), half_angle_deg=math.degrees(math.atan(slope)),
-                  r2=r2, radius_at_top_m=float(intercept + slope * z[0]),
-                  radius_at_bottom_m=float(intercept + slope * z[-1]))
+    plug = bool(rc.min() >= PLUG_RADIUS)
+    formed = bool(plug and slope > 0.2)
+    result.update(formed=formed, plug_separated=plug, half_angle_deg=math.degrees(math.atan(slope)),
+                  r2=r2, radius_at_top_m=float(intercept + slope * z[mid][0]),
+                  radius_at_bottom_m=float(intercept + slope * z[mid][-1]))
     if not formed:
-        result["reason"] = "slope %.3g, R^2 %.3g" % (slope, r2)
+        result["reason"] = "no cone: %s, slope %.3g" % (
+            "plug separated" if plug else "disc intact within %.0f mm of the axis" % (1e3 * PLUG_RADIUS), slope)
     return result
 
 
@@ -240,6 +243,12 @@ def analyse(hexdem, pvd):
     st = a["state"][:nb]
     modes = {"tension": int((st == 2).sum()), "shear": int((st == 3).sum()),
              "compression": int((st == 4).sum())}
+    x0 = a["points"][:, :2] - a["displacement"][:, :2]
+    broken = (st >= 2) & (st <= 4)
+    r_broken = x0[a["cell_i"][:nb][broken], 0]
+    inner = r_broken < RIM_ZONE
+    damage_radius = float(r_broken[inner].max()) if inner.any() else 0.0
+    rim_broken = int((~inner).sum())
 
     last = {k: float(energy[k][-1]) for k in energy}
     terms = ["kinetic", "elastic", "external_work", "damping", "plastic", "fracture",
@@ -263,6 +272,7 @@ def analyse(hexdem, pvd):
         "contact_time_tip_s": float(t[np.nonzero(depth > 0)[0][0]]) if (depth > 0).any() else None,
         "warhead_mass_kg_per_rad": float(bodies["warhead.mass"][0]),
         "broken_bonds": sum(modes.values()), "broken_bonds_by_mode": modes,
+        "damage_radius_m": damage_radius, "broken_bonds_at_rim": rim_broken,
         "fragments": {
             "debris_fragments": int(debris.sum()),
             "debris_fragments_2_or_more_disks": int((sizes >= 2).sum()),
@@ -283,7 +293,7 @@ def analyse(hexdem, pvd):
         "back_face": {"mass_beyond_kg_per_rad": ejected_back,
                       "mean_velocity_m_s": float((a["mass"][below] * v[below]).sum() / ejected_back)
                       if ejected_back > 0 else 0.0},
-        "cone": cone_fit(a, target, max_depth),
+        "cone": cone_fit(a, target, target & (ids == uniq[disc])),
         "energy": {
             "input_J_per_rad": last["input"],
             "final": {k: last[k] for k in terms},
@@ -318,6 +328,10 @@ def table(results):
             "max depth [mm]": "%.2f" % (1e3 * r["max_penetration_depth_m"]),
             "final depth [mm]": "%.2f" % (1e3 * r["final_penetration_depth_m"]),
             "broken bonds": str(r["broken_bonds"]),
+            "tension/shear/compr.": "%d/%d/%d" % tuple(r["broken_bonds_by_mode"][m] for m in
+                                                      ("tension", "shear", "compression")),
+            "damage radius [mm]": "%.1f" % (1e3 * r["damage_radius_m"]),
+            "broken at rim": str(r["broken_bonds_at_rim"]),
             "debris (>=2 disks)": str(f["debris_fragments_2_or_more_disks"]),
             "single disks": str(f["single_disks"]),
             "largest debris [disks]": str(f["largest_debris_disks"]),
