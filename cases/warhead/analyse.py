@@ -305,16 +305,32 @@ def analyse(hexdem, pvd):
     }
 
 
-def matching_frames(results):
-    """The common depth (80 % of the shallowest maximum depth) and each run's frame nearest to
-    it before the warhead's deepest point."""
+def matching_frames(hexdem, results):
+    """The common depth (80 % of the shallowest maximum depth), each run's frame nearest to it
+    before the warhead's deepest point, and the damage in that frame (the paper compares the
+    damage forms at the same penetration depth)."""
     depth = 0.8 * min(r["max_penetration_depth_m"] for r in results)
     for r in results:
         times = np.array(r["frames"]["time_s"])
         d = np.array(r["frames"]["depth_m"])
         ok = times <= r["time_of_max_depth_s"] + 1e-12
         k = int(np.argmin(np.where(ok, np.abs(d - depth), np.inf)))
-        r["matching_frame"] = {"depth_m": depth, "time_s": float(times[k]), "frame_depth_m": float(d[k])}
+        frame = dict(read_pvd(r["series"]))[float(times[k])]
+        grid = read_frame(frame)
+        a = arrays(grid)
+        target = a["body"] != body_index(grid, "warhead")
+        ids = fragment_ids(hexdem, grid)
+        _, inverse, disks = np.unique(ids[target], return_inverse=True, return_counts=True)
+        small = disks[inverse] <= PULVERISED_DISKS
+        nb = len(a["state"])
+        st = a["state"][:nb]
+        r["matching_frame"] = {
+            "depth_m": depth, "time_s": float(times[k]), "frame_depth_m": float(d[k]),
+            "broken_bonds": int(((st >= 2) & (st <= 4)).sum()),
+            "broken_bonds_compression": int((st == 4).sum()),
+            "pulverised_mass_kg_per_rad": float(a["mass"][target][small].sum()),
+            "single_disks": int((disks == 1).sum()),
+        }
     return depth
 
 
@@ -339,6 +355,11 @@ def table(results):
             "pulverised [% damaged]": "%.1f" % (100 * p["share_of_damaged"]),
             "beyond back face [g/rad]": "%.2f" % (1e3 * r["back_face"]["mass_beyond_kg_per_rad"]),
             "cone half-angle [deg]": "%.1f" % c["half_angle_deg"] if c.get("formed") else "none",
+            "at matching depth: t [us]": "%.0f" % (1e6 * r["matching_frame"]["time_s"]),
+            "  nose depth [mm]": "%.2f" % (1e3 * r["matching_frame"]["frame_depth_m"]),
+            "  broken bonds": str(r["matching_frame"]["broken_bonds"]),
+            "  of them compression": str(r["matching_frame"]["broken_bonds_compression"]),
+            "  pulverised [g/rad]": "%.2f" % (1e3 * r["matching_frame"]["pulverised_mass_kg_per_rad"]),
             "E_in [J/rad]": "%.3f" % e["input_J_per_rad"],
             "KE warhead [%]": "%.1f" % (100 * e["warhead_kinetic_J_per_rad"] / e["input_J_per_rad"]),
             "KE target [%]": "%.1f" % (100 * e["target_kinetic_J_per_rad"] / e["input_J_per_rad"]),
@@ -416,7 +437,7 @@ def main(argv):
             fail("%s: no such file" % p)
     hexdem = import_hexdem()
     results = [analyse(hexdem, p) for p in args.series]
-    depth = matching_frames(results)
+    depth = matching_frames(hexdem, results)
     if args.check:
         for r in results:
             r["under_nose_first"] = first_cracks_under_nose(r)
