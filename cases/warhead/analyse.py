@@ -31,7 +31,9 @@ Definitions (README.md, "Numbers"):
   back face (leaving out the crater lip and the spalled back layer). A cone has formed when a
   plug has separated through the whole thickness (r_c >= 3 mm in every bin) and
   tan(theta) > 0.2; theta is the cone's half-angle from the axis (90 deg - theta from the
-  faces), R^2 the straightness of the fit;
+  faces), R^2 the straightness of the fit. The same fit on the largest initial radius of the
+  material beyond the back face gives the outer surface of the punched-out cone
+  (ejected_outer_half_angle_deg, where it spans four bins or more);
 - damage radius: the largest initial radius of a broken bond's first disk, leaving out the
   clamped rim (r >= 190 mm; those bonds are counted separately);
 - energy balance: the last row of <case>.energy.csv (Eq. 25), and the largest |relative
@@ -151,7 +153,7 @@ def body_index(grid, name):
     return {"target": 0, "warhead": 1}[name]  # the outline's order
 
 
-def cone_fit(a, target, disc_disks):
+def cone_fit(a, target, disc_disks, ejected):
     """Half-angle of the cone crack that separates a plug from the disc (module docstring):
     per 2 mm depth bin, the smallest initial radius of the disks still in the disc's own
     fragment, r_c(z), and a least-squares line through r_c against depth."""
@@ -178,6 +180,17 @@ def cone_fit(a, target, disc_disks):
     result.update(formed=formed, plug_separated=plug, half_angle_deg=math.degrees(math.atan(slope)),
                   r2=r2, radius_at_top_m=float(intercept + slope * z[mid][0]),
                   radius_at_bottom_m=float(intercept + slope * z[mid][-1]))
+    # The same fit on the outer boundary of the material beyond the back face (the punched-out
+    # cone), where at least four bins have some.
+    depth_e, r_e = -x0[ejected, 1], x0[ejected, 0]
+    ze, re = [], []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        inside = (depth_e >= lo - 1e-9) & (depth_e < hi - 1e-9) & (lo >= 0.002) & (hi <= DISC_THICKNESS - 0.002)
+        if inside.any():
+            ze.append(0.5 * (lo + hi))
+            re.append(float(r_e[inside].max()))
+    if len(ze) >= 4:
+        result["ejected_outer_half_angle_deg"] = math.degrees(math.atan(np.polyfit(ze, re, 1)[0]))
     if not formed:
         result["reason"] = "no cone: %s, slope %.3g" % (
             "plug separated" if plug else "disc intact within %.0f mm of the axis" % (1e3 * PLUG_RADIUS), slope)
@@ -293,7 +306,7 @@ def analyse(hexdem, pvd):
         "back_face": {"mass_beyond_kg_per_rad": ejected_back,
                       "mean_velocity_m_s": float((a["mass"][below] * v[below]).sum() / ejected_back)
                       if ejected_back > 0 else 0.0},
-        "cone": cone_fit(a, target, target & (ids == uniq[disc])),
+        "cone": cone_fit(a, target, target & (ids == uniq[disc]), below),
         "energy": {
             "input_J_per_rad": last["input"],
             "final": {k: last[k] for k in terms},
