@@ -272,6 +272,16 @@ def analyse(hexdem, pvd):
     warhead_ke = float(bodies["warhead.kinetic"][-1])
     target_ke = float(bodies["target.kinetic"][-1])
 
+    # Bookkeeping: the bodies' kinetic energies add up to the balance's at the common steps,
+    # and the warhead's momentum is -m v0 until its nose reaches the top row's disk edges.
+    common, i_b, i_e = np.intersect1d(bodies["step"], energy["step"], return_indices=True)
+    ke_sum = bodies["warhead.kinetic"][i_b] + bodies["target.kinetic"][i_b]
+    ke_mismatch = float(np.abs(ke_sum - energy["kinetic"][i_e]).max() / energy["input"][0]) if len(common) else None
+    r_top = float(first["radius"][~w0].max())
+    flight = depth < -r_top - 1e-6
+    p_flight = bodies["warhead.py"][flight]
+    momentum_drift = float(np.abs(p_flight - p_flight[0]).max() / abs(p_flight[0])) if flight.any() else None
+
     frame_times = np.array([f[0] for f in frames])
     frame_depth = np.interp(frame_times, t, depth)
 
@@ -312,7 +322,9 @@ def analyse(hexdem, pvd):
             "final": {k: last[k] for k in terms},
             "warhead_kinetic_J_per_rad": warhead_ke, "target_kinetic_J_per_rad": target_ke,
             "final_relative_error": last["relative_error"], "max_abs_relative_error": max_err,
+            "bodies_kinetic_mismatch": ke_mismatch, "bodies_kinetic_rows": int(len(common)),
         },
+        "free_flight": {"rows": int(flight.sum()), "momentum_drift": momentum_drift},
         "frames": {"time_s": frame_times.tolist(), "depth_m": frame_depth.tolist()},
         "history": {"time_s": t.tolist(), "warhead_vz_m_s": vz.tolist(), "depth_m": depth.tolist()},
     }
@@ -413,6 +425,14 @@ def check(results):
         diss = e["final"]["fracture"] + e["final"]["contact_damping"] + e["final"]["friction"]
         if not diss > 0.01 * e["input_J_per_rad"]:
             problems.append("%s: almost nothing dissipated (%.3g J/rad)" % (name, diss))
+        ff = r["free_flight"]
+        if not (ff["rows"] >= 5 and ff["momentum_drift"] < 1e-9):
+            problems.append("%s: warhead momentum in free flight not constant (%d rows, drift %s)"
+                            % (name, ff["rows"], ff["momentum_drift"]))
+        if not (e["bodies_kinetic_rows"] >= 5 and e["bodies_kinetic_mismatch"] < 1e-6):
+            problems.append("%s: kinetic energies of the bodies do not add up to the balance's "
+                            "(%d rows, mismatch %s of the input)"
+                            % (name, e["bodies_kinetic_rows"], e["bodies_kinetic_mismatch"]))
         if r.get("under_nose_first") is False:
             problems.append("%s: the first broken bonds are not under the nose" % name)
     return problems

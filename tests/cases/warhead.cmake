@@ -2,7 +2,9 @@
 # disks) at 100 m/s to 150 us, a few seconds. The analysis checks (analyse.py --check) that
 # the energy balance holds within 2 %, the input is the warhead's kinetic energy, the warhead
 # enters the disc and loses at least half its speed, more than 100 bonds break and the first
-# ten under the nose, a pulverised fraction in (0, 20 %) and dissipation above 1 % of the input.
+# ten under the nose, a pulverised fraction in (0, 20 %), dissipation above 1 % of the input,
+# the warhead's momentum constant in free flight, and the bodies' kinetic energies adding up to
+# the energy balance's.
 add_test(NAME case_warhead_reduced_run
   COMMAND $<TARGET_FILE:hexdem> run ${PROJECT_SOURCE_DIR}/cases/warhead/case_ctest.toml
           --out ${HEXDEM_TEST_WORK_DIR}/case_warhead --threads 2 --quiet)
