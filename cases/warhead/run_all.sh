@@ -3,14 +3,14 @@
 # 25 m/s at full size, one after the other with 2 threads), then the numbers (analyse.py) and
 # the figures (figures.py), all into one folder.
 # Usage: cases/warhead/run_all.sh [OUTPUT_DIR] [CASE.toml ...]
-#   OUTPUT_DIR  default warhead-output
+#   OUTPUT_DIR  default out/warhead
 #   CASE.toml   default cases/warhead/case.toml case_50.toml case_25.toml
 # Environment: HEXDEM (the program; default build/release/solver/hexdem, else the first
 # build/*/solver/hexdem), HEXDEM_PLUGIN (HexDEMFilters.so), THREADS (default 2).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-out=${1:-warhead-output}
+out=${1:-out/warhead}
 shift || true
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=("$here/case.toml" "$here/case_50.toml" "$here/case_25.toml")
