@@ -389,7 +389,7 @@ constexpr std::array<Key<TimeControl>, 5> kTimeKeys{{
      }},
 }};
 
-constexpr std::array<Key<OutputControl>, 4> kOutputKeys{{
+constexpr std::array<Key<OutputControl>, 5> kOutputKeys{{
     {"interval", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.interval = in.non_negative(v, p);
@@ -404,6 +404,8 @@ constexpr std::array<Key<OutputControl>, 4> kOutputKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.compression_level = static_cast<int>(in.integer(v, p, 0, 9));
      }},
+    {"body_history", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) { o.body_history = in.names(v, p); }},
 }};
 
 constexpr std::array<Key<Wall>, 3> kWallKeys{{
@@ -899,8 +901,21 @@ void Reader::read_time(const toml::table& root, Case& c) const {
 }
 
 void Reader::read_output(const toml::table& root, Case& c) const {
-  if (const toml::node* node = root.get("output"))
-    read_keys(table(*node, "output"), "output", Keys<OutputControl>(kOutputKeys), c.output);
+  if (const toml::node* node = root.get("output")) {
+    const toml::table& t = table(*node, "output");
+    read_keys(t, "output", Keys<OutputControl>(kOutputKeys), c.output);
+    if (const toml::node* bodies = t.get("body_history")) {
+      const std::vector<std::string>& names = c.output.body_history;
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        const toml::node& at = *bodies->as_array()->get(k);
+        const std::string path = item("output.body_history", k);
+        check_body(c, names[k], at, path);
+        if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(k), names[k]) !=
+            names.begin() + static_cast<std::ptrdiff_t>(k))
+          fail(at, path, "duplicate body '" + names[k] + "'");
+      }
+    }
+  }
   if (const toml::node* node = root.get("contact"))
     read_keys(table(*node, "contact"), "contact", Keys<ContactControl>(kContactKeys), c.contact);
 }

@@ -4,6 +4,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -185,6 +186,7 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
   pvd_path_ = (fs::path(dir_) / (name_ + ".pvd")).string();
   energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
   probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
+  bodies_path_ = (fs::path(dir_) / (name_ + ".bodies.csv")).string();
   fs::remove(pvd_path_, ec);
 
   energy_.open(energy_path_, std::ios::trunc);
@@ -221,6 +223,25 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
       probe_points_.push_back({best, fields});
     }
     probes_ << "\n";
+  }
+
+  fs::remove(bodies_path_, ec);
+  if (!c.output.body_history.empty()) {
+    bodies_.open(bodies_path_, std::ios::trunc);
+    if (!bodies_) throw std::runtime_error(bodies_path_ + ": cannot write");
+    // Body index = position in the outline (the lattice's `body` numbers).
+    std::vector<std::string> names;
+    for (const meshing::BodyOutline& b : c.outline.bodies) names.push_back(b.name);
+    body_slot_.assign(names.size(), -1);
+    bodies_ << "time,step";
+    for (const std::string& b : c.output.body_history) {
+      const auto at = std::find(names.begin(), names.end(), b);
+      if (at == names.end()) throw InputError(c.source + ": output.body_history: unknown body '" + b + "'");
+      body_slot_[static_cast<std::size_t>(at - names.begin())] = static_cast<int>(body_sums_.size());
+      body_sums_.push_back({});
+      for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) bodies_ << "," << b << "." << col;
+    }
+    bodies_ << "\n";
   }
 }
 
@@ -283,6 +304,37 @@ void RunOutput::write_probes(const Solver& solver) {
   probes_ << "\n";
 }
 
+void RunOutput::write_bodies(const Solver& solver) {
+  if (body_sums_.empty()) return;
+  const Model& m = solver.model();
+  for (auto& sums : body_sums_) sums.fill(0.0);
+  // Serial, in disk order: the sums do not depend on the number of threads.
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    const int slot = body_slot_[static_cast<std::size_t>(m.body[i])];
+    if (slot < 0) continue;
+    auto& s = body_sums_[static_cast<std::size_t>(slot)];
+    const double mass = m.mass[i];
+    const double vx = solver.vx_mid(i), vy = solver.vy_mid(i);
+    s[0] += mass;
+    s[1] += mass * (m.x0[i] + m.ux[i]);
+    s[2] += mass * (m.y0[i] + m.uy[i]);
+    s[3] += mass * vx;
+    s[4] += mass * vy;
+    s[5] += 0.5 * (mass * (m.vx_old[i] * m.vx[i] + m.vy_old[i] * m.vy[i]) +
+                   m.inertia[i] * m.omega_old[i] * m.omega[i]);
+  }
+  csv_number(bodies_, solver.time());
+  bodies_ << "," << solver.step_index();
+  for (const auto& s : body_sums_) {
+    const double inv = s[0] > 0 ? 1.0 / s[0] : 0.0;
+    for (double v : {s[0], s[1] * inv, s[2] * inv, s[3] * inv, s[4] * inv, s[3], s[4], s[5]}) {
+      bodies_ << ",";
+      csv_number(bodies_, v);
+    }
+  }
+  bodies_ << "\n";
+}
+
 int run_case(const Case& c, const RunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -328,14 +380,17 @@ int run_case(const Case& c, const RunOptions& options) {
       out.write_energy(s);
       if (s.energy().input() > 0) max_error = std::max(max_error, std::abs(s.energy().relative_error()));
     }
-    if (probe) out.write_probes(s);
+    if (probe) {
+      out.write_probes(s);
+      out.write_bodies(s);
+    }
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   for (std::int64_t n = 0; n <= steps; ++n) {
     const double t = static_cast<double>(n) * dt;
     const bool last = n == steps;
     frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
-    probe = !c.probes.empty() && (n == 0 || last || t >= next_probe - 0.5 * dt);
+    probe = (!c.probes.empty() || !c.output.body_history.empty()) && (n == 0 || last || t >= next_probe - 0.5 * dt);
     energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
     const bool check = energy_row || n % 50 == 0;
     ok = solver.advance(check, at_tn);
@@ -377,6 +432,7 @@ int run_case(const Case& c, const RunOptions& options) {
     }
     std::printf("  series: %s\n  energy: %s\n", out.pvd_path().c_str(), out.energy_path().c_str());
     if (!c.probes.empty()) std::printf("  probes: %s\n", out.probes_path().c_str());
+    if (!c.output.body_history.empty()) std::printf("  bodies: %s\n", out.bodies_path().c_str());
   }
   return kExitOk;
 }

@@ -2,9 +2,13 @@
 // input) and one-line messages.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -85,6 +89,112 @@ TEST(RunCli, GoodCaseWritesSeriesEnergyAndProbes) {
   EXPECT_NE(probes.find("top.velocity_y"), std::string::npos);
   EXPECT_NE(probes.find("top.stress_yy"), std::string::npos);
   EXPECT_GT(count_lines(probes), 10);
+}
+
+/// A CSV file as columns by header name.
+std::map<std::string, std::vector<double>> read_csv(const fs::path& path) {
+  std::ifstream in(path);
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::stringstream h(line); std::getline(h, cell, ',');) names.push_back(cell);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream r(line);
+    for (const std::string& n : names) {
+      std::getline(r, cell, ',');
+      cols[n].push_back(std::stod(cell));
+    }
+  }
+  return cols;
+}
+
+// A free block dropped at 40 m/s onto a free plate (no supports, no loads): the body
+// histories must show the free flight before contact, conserve the total momentum through the
+// impact, and add up to the energy balance's kinetic energy.
+TEST(RunCli, BodyHistoryOfTwoCollidingBlocks) {
+  const fs::path d = work_dir();
+  const fs::path c = write(d, "drop.toml", R"([case]
+geometry = "plane-stress"
+thickness = 0.01
+[lattice]
+radius = 0.5e-3
+[[body]]
+name = "plate"
+material = 1
+[[body.shape]]
+type = "rectangle"
+min = [0, -0.006]
+max = [0.012, 0]
+[[body]]
+name = "block"
+material = 2
+[[body.shape]]
+type = "rectangle"
+min = [0.004, 0.001]
+max = [0.008, 0.005]
+[[material]]
+id = 1
+density = 2400.0
+E = 30e9
+nu = 0.2
+[[material]]
+id = 2
+density = 7850.0
+E = 210e9
+nu = 0.3
+[[initial_velocity]]
+body = "block"
+velocity = [0.0, -40.0]
+[contact]
+damping = 0.2
+[time]
+end = 60e-6
+[output]
+interval = 5e-6
+probe_interval = 5e-6
+body_history = ["block", "plate"]
+)");
+  const Result r = run(d, "run " + c.string() + " --out " + (d / "out").string() + " --threads 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("drop.bodies.csv"), std::string::npos) << r.out;
+  auto b = read_csv(d / "out" / "drop.bodies.csv");
+  auto e = read_csv(d / "out" / "drop.energy.csv");
+  ASSERT_GE(b["time"].size(), 13u);
+  ASSERT_EQ(b["block.mass"].size(), b["time"].size());
+  // Block: 4 mm x 4 mm x 10 mm of steel; the disks' cells tile the rectangle.
+  const double m_block = 7850.0 * 0.004 * 0.004 * 0.01;
+  EXPECT_NEAR(b["block.mass"][0], m_block, 1e-9 * m_block);
+  EXPECT_NEAR(b["plate.mass"][0], 2400.0 * 0.012 * 0.006 * 0.01, 1e-9 * m_block);
+  const double y0 = b["block.y"][0];
+  EXPECT_NEAR(y0, 0.003, 1e-4);  // the centre of mass of the lattice's cells
+  EXPECT_NEAR(b["block.kinetic"][0], 0.5 * m_block * 40.0 * 40.0, 1e-9 * m_block * 800.0);
+  // Free flight until the 1 mm gap closes at 25 us.
+  for (std::size_t k = 0; k < b["time"].size() && b["time"][k] < 20e-6; ++k) {
+    EXPECT_NEAR(b["block.vy"][k], -40.0, 1e-9) << "t = " << b["time"][k];
+    EXPECT_NEAR(b["block.y"][k], y0 - 40.0 * b["time"][k], 1e-9) << "t = " << b["time"][k];
+    EXPECT_NEAR(b["block.py"][k], -40.0 * b["block.mass"][k], 1e-9 * m_block);
+    EXPECT_EQ(b["plate.vy"][k], 0.0);
+  }
+  // The impact happened: the block slowed down and the plate moved down.
+  const std::size_t last = b["time"].size() - 1;
+  EXPECT_GT(b["block.vy"][last], -30.0);
+  EXPECT_LT(b["plate.vy"][last], -1.0);
+  // Momentum: no external force, so the total stays -40 m_block to round-off.
+  for (std::size_t k = 0; k < b["time"].size(); ++k) {
+    EXPECT_NEAR(b["block.px"][k] + b["plate.px"][k], 0.0, 1e-9 * 40.0 * m_block);
+    EXPECT_NEAR(b["block.py"][k] + b["plate.py"][k], -40.0 * m_block, 1e-9 * 40.0 * m_block);
+  }
+  // Kinetic energy: the bodies add up to the balance's leap-frog kinetic energy at the frames.
+  std::size_t matched = 0;
+  for (std::size_t k = 0; k < e["time"].size(); ++k)
+    for (std::size_t j = 0; j < b["time"].size(); ++j)
+      if (b["step"][j] == e["step"][k]) {
+        ++matched;
+        EXPECT_NEAR(b["block.kinetic"][j] + b["plate.kinetic"][j], e["kinetic"][k], 1e-6 * e["kinetic"][0])
+            << "t = " << e["time"][k];
+      }
+  EXPECT_GE(matched, 13u);
 }
 
 TEST(RunCli, MissingCaseFile) {

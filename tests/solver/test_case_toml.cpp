@@ -311,6 +311,7 @@ TEST(CaseToml, Defaults) {
   EXPECT_TRUE(c.output.frames);
   EXPECT_EQ(c.output.probe_interval, 0.0);
   EXPECT_EQ(c.output.compression_level, 1);
+  EXPECT_TRUE(c.output.body_history.empty());
   EXPECT_TRUE(c.boundaries.empty());
   EXPECT_TRUE(c.loads.empty());
   EXPECT_TRUE(c.probes.empty());
@@ -510,6 +511,27 @@ TEST(CaseToml, UnknownBody) {
   EXPECT_EQ(parse_error(parts.text()),
             "case.toml:" + std::to_string(line_of(parts.text(), "bodies =")) +
                 ": load[0].bodies[1]: unknown body 'ball' (bodies: plate)");
+}
+
+TEST(CaseToml, BodyHistory) {
+  Parts parts;
+  parts.extra = "\n[output]\nbody_history = [\"plate\"]\n";
+  EXPECT_EQ(parse(parts.text()).output.body_history, std::vector<std::string>{"plate"});
+  parts.extra = "\n[output]\nbody_history = [\"plate\", \"ball\"]\n";
+  EXPECT_EQ(parse_error(parts.text()),
+            "case.toml:" + std::to_string(line_of(parts.text(), "body_history")) +
+                ": output.body_history[1]: unknown body 'ball' (bodies: plate)");
+  parts.extra = "\n[output]\nbody_history = [\"plate\", \"plate\"]\n";
+  EXPECT_EQ(parse_error(parts.text()),
+            "case.toml:" + std::to_string(line_of(parts.text(), "body_history")) +
+                ": output.body_history[1]: duplicate body 'plate'");
+  parts.extra = "\n[output]\nbody_history = \"plate\"\n";
+  EXPECT_EQ(parse_error(parts.text()),
+            "case.toml:" + std::to_string(line_of(parts.text(), "body_history")) +
+                ": output.body_history: expected a non-empty array of names [\"...\", ...] (got \"plate\")");
+  parts.extra = "\n[output]\nbody_history = []\n";
+  EXPECT_NE(parse_error(parts.text()).find(": output.body_history: expected a non-empty array"),
+            std::string::npos);
 }
 
 TEST(CaseToml, MissingMaterial) {

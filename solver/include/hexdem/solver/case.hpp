@@ -81,6 +81,10 @@ struct OutputControl {
   bool frames = true;             ///< write .vtu frames and the .pvd
   double probe_interval = 0;      ///< between probe rows [s]; 0 = every step
   int compression_level = 1;      ///< zlib level of the frames
+  /// Bodies (outline names) whose rigid-body history goes to `<case>.bodies.csv` every
+  /// `probe_interval`: mass [kg or kg/rad], centre of mass [m], mass-averaged velocity [m/s],
+  /// momentum [kg m/s or per rad], kinetic energy [J or J/rad]. Empty: no file.
+  std::vector<std::string> body_history;
 };
 
 /// A rigid planar wall: the half-plane behind the line through `point` with unit `normal`

@@ -1,10 +1,12 @@
 #pragma once
 /// \file output.hpp
 /// Run output (docs/file-format.md): `DIR/<case>.pvd` with one `.vtu` per frame in
-/// `DIR/<case>/`, `DIR/<case>.energy.csv` (Eq. 25 per output step) and `DIR/<case>.probes.csv`.
+/// `DIR/<case>/`, `DIR/<case>.energy.csv` (Eq. 25 per output step), `DIR/<case>.probes.csv`
+/// and `DIR/<case>.bodies.csv` (rigid-body histories of the `[output] body_history` bodies).
 /// Frames and the .pvd are written atomically (temporary name, then rename), so an
 /// interrupted run leaves only complete frames and a .pvd that lists them.
 
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <string>
@@ -28,10 +30,16 @@ public:
   void write_energy(const Solver& solver);
   /// Appends one row of probe values at t_n.
   void write_probes(const Solver& solver);
+  /// Appends one row of body histories at t_n (no-op without `[output] body_history`).
+  /// Per body: mass, centre of mass, mass-averaged velocity, momentum and the leap-frog
+  /// kinetic energy `1/2 m v(t-dt/2).v(t+dt/2)` plus spin (the energy balance's form, so the
+  /// bodies' kinetic energies add up to its `kinetic`). Allocates nothing.
+  void write_bodies(const Solver& solver);
 
   [[nodiscard]] const std::string& pvd_path() const { return pvd_path_; }
   [[nodiscard]] const std::string& energy_path() const { return energy_path_; }
   [[nodiscard]] const std::string& probes_path() const { return probes_path_; }
+  [[nodiscard]] const std::string& bodies_path() const { return bodies_path_; }
   [[nodiscard]] const std::string& last_frame() const { return last_frame_; }
   [[nodiscard]] std::size_t frames() const { return pvd_.size(); }
 
@@ -49,10 +57,14 @@ private:
     std::vector<std::string> fields;
   };
   std::string dir_, frame_dir_, name_;
-  std::string pvd_path_, energy_path_, probes_path_, last_frame_;
+  std::string pvd_path_, energy_path_, probes_path_, bodies_path_, last_frame_;
   std::vector<io::PvdEntry> pvd_;
-  std::ofstream energy_, probes_;
+  std::ofstream energy_, probes_, bodies_;
   std::vector<ProbePoint> probe_points_;
+  /// Body histories: slot of each body index (-1: not recorded), and the per-slot sums
+  /// (m, m x, m y, m vx, m vy, kinetic) reused for every row.
+  std::vector<int> body_slot_;
+  std::vector<std::array<double, 6>> body_sums_;
   ContactCells contact_cells_;
   int compression_level_ = 1;
 };

@@ -1,0 +1,21 @@
+# Case 4, the steel warhead into a concrete disc (cases/warhead/), reduced: r = 1 mm (2,069
+# disks) at 100 m/s to 150 us, a few seconds. The analysis checks (analyse.py --check) that
+# the energy balance holds within 2 %, the input is the warhead's kinetic energy, the warhead
+# enters the disc and loses at least half its speed, more than 100 bonds break and the first
+# ten under the nose, a pulverised fraction in (0, 20 %), dissipation above 1 % of the input,
+# the warhead's momentum constant in free flight, and the bodies' kinetic energies adding up to
+# the energy balance's.
+add_test(NAME case_warhead_reduced_run
+  COMMAND $<TARGET_FILE:hexdem> run ${PROJECT_SOURCE_DIR}/cases/warhead/case_ctest.toml
+          --out ${HEXDEM_TEST_WORK_DIR}/case_warhead --threads 2 --quiet)
+set_tests_properties(case_warhead_reduced_run PROPERTIES
+  LABELS "validation" TIMEOUT 120 FIXTURES_SETUP case_warhead_reduced)
+if(NOT HEXDEM_SANITIZE)
+  add_test(NAME case_warhead_reduced_analysis
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/analyse.py
+            ${HEXDEM_TEST_WORK_DIR}/case_warhead/warhead_ctest.pvd
+            --json ${HEXDEM_TEST_WORK_DIR}/case_warhead/warhead_ctest_summary.json --check)
+  set_tests_properties(case_warhead_reduced_analysis PROPERTIES
+    LABELS "validation" TIMEOUT 120 FIXTURES_REQUIRED case_warhead_reduced
+    ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
+endif()
