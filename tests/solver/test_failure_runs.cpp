@@ -292,6 +292,37 @@ TEST(FailureInput, PlasticityWithNegativeShearSpringsIsRefused) {
   }
 }
 
+TEST(FailureInput, BreakableBondsWithNegativeShearSpringsAreRefused) {
+  // nu = 0.3 in plane strain gives k_s < 0; breaking such bonds releases negative energy, so
+  // the solver refuses breakable bonds there unless allow_unstable asks to run anyway. At
+  // nu = 1/4 (k_s = 0) and in plane stress (k_s > 0 up to nu = 1/3) they are accepted.
+  const std::string strengths = "tensile_strength = 4e6\ncompressive_strength = 40e6\ncohesion = 11.5e6\nfriction_angle = 30.0\n";
+  auto text = [&](const std::string& geometry, const std::string& nu, const std::string& time) {
+    std::string t = bar_case(strengths, time);
+    t.replace(t.find("plane-stress"), 12, geometry);
+    t.replace(t.find("nu = 0.2"), 8, "nu = " + nu);
+    return t;
+  };
+  {
+    const Case c = parse_case(text("plane-strain", "0.3", "end = 1e-6\n"), "bar.toml", ".");
+    try {
+      Solver s(c, mesh_case(c));
+      FAIL() << "accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("bar.toml: material 'concrete' (id 1): breakable bonds"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("nu = 0.3"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("allow_unstable"), std::string::npos) << msg;
+    }
+  }
+  const Case allowed = parse_case(text("plane-strain", "0.3", "end = 1e-6\nallow_unstable = true\n"), "bar.toml", ".");
+  EXPECT_NO_THROW(Solver(allowed, mesh_case(allowed)));
+  const Case quarter = parse_case(text("plane-strain", "0.25", "end = 1e-6\n"), "bar.toml", ".");
+  EXPECT_NO_THROW(Solver(quarter, mesh_case(quarter)));
+  const Case plane_stress = parse_case(text("plane-stress", "0.3", "end = 1e-6\n"), "bar.toml", ".");
+  EXPECT_NO_THROW(Solver(plane_stress, mesh_case(plane_stress)));
+}
+
 TEST(FailureInput, BadStrengthsAreRefused) {
   const auto msg = [](const std::string& extra) {
     try {
