@@ -173,6 +173,28 @@ double j2_hardening_energy(const Model& m, std::size_t i) {
   return m.cell_area[i] * m.weight[i] * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
 }
 
+/// Tangential stiffness of broken bond b acting as a contact [N/m per unit width]: its shear
+/// spring, or half the normal one where the shear spring is not positive.
+inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
+  return m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b];
+}
+
+/// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
+/// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
+double intact_bond_energy(const Model& m, std::size_t b) {
+  double e = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
+  if (m.k_s[b] != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+  if (m.f_yield[b] > 0) {
+    const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
+    if (hn > 0) e += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
+    if (m.k_s[b] > 0) {
+      const double hs = m.k_s[b] * m.kh_s[b] / (m.k_s[b] - m.kh_s[b]);
+      if (hs > 0) e += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
+    }
+  }
+  return e;
+}
+
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
 /// Shear, rotation model (Eq. 1-2): f_s += k_s [(du_j - du_i).s - (r_i dtheta_i + r_j dtheta_j)]
 /// with the increments of the last step. Shear, local-strain model: u_s = d s.(eps_i+eps_j)/2.n
@@ -199,8 +221,8 @@ void compute_bond_forces(Model& m, double dt) {
       const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
       const double delta = m.radius[i] + m.radius[j] - len;
       const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-      const double k_t = m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b];
-      const laws::LinearContact law{m.k_n[b], k_t, m.mu[b], m.contact_damping};
+      const laws::LinearContact law{m.k_n[b], contact_tangential_stiffness(m, static_cast<std::size_t>(b)), m.mu[b],
+                                    m.contact_damping};
       const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
       laws::ContactState cs{m.f_n[b], m.f_s[b]};
       const laws::ContactStep st = law.update(cs, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
@@ -262,16 +284,7 @@ void compute_bond_forces(Model& m, double dt) {
       const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], strength);
       if (mode != laws::FailureMode::None) {
         // The stored energy of the bond is released (it enters the balance as fracture).
-        double e = 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b];
-        if (m.k_s[b] != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
-        if (m.f_yield[b] > 0) {
-          const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
-          if (hn > 0) e += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
-          if (m.k_s[b] > 0) {
-            const double hs = m.k_s[b] * m.kh_s[b] / (m.k_s[b] - m.kh_s[b]);
-            if (hs > 0) e += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
-          }
-        }
+        double e = intact_bond_energy(m, static_cast<std::size_t>(b));
         // Leap-frog's kinetic energy at t_n already contains half a step of the force the bond
         // would have applied: removing it now also removes dt/2 v(t-dt/2).F from it.
         const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
@@ -396,22 +409,10 @@ double elastic_energy(const Model& m) {
   double e = deterministic_sum(
       m.num_bonds(),
       [&](std::size_t b) {
-        double eb = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
-        if (!m.bond_intact(b)) {  // contact spring (its tangential stiffness, see above)
-          const double k_t = m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b];
-          return eb + 0.5 * m.f_s[b] * m.f_s[b] / k_t;
-        }
-        if (m.k_s[b] != 0) eb += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
-        if (m.f_yield[b] > 0) {
-          // Locked-in energy of the hardening springs, alpha^2 / (2H), H = k k_h / (k - k_h).
-          const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
-          if (hn > 0) eb += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
-          if (m.k_s[b] > 0) {
-            const double hs = m.k_s[b] * m.kh_s[b] / (m.k_s[b] - m.kh_s[b]);
-            if (hs > 0) eb += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
-          }
-        }
-        return eb;
+        if (m.bond_intact(b)) return intact_bond_energy(m, b);
+        // A contact: its normal spring and its tangential one.
+        const double en = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
+        return en + 0.5 * m.f_s[b] * m.f_s[b] / contact_tangential_stiffness(m, b);
       },
       m.scratch);
   e += deterministic_sum(
