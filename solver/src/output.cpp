@@ -369,6 +369,7 @@ int run_case(const Case& c, const RunOptions& options) {
     std::fflush(stdout);
   }
 
+  for (const std::string& w : solver.warnings()) std::fprintf(stderr, "hexdem: warning: %s\n", w.c_str());
   bool ok = true;
   double max_error = 0;
   bool frame = false, probe = false, energy_row = false;

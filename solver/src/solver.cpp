@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -222,6 +221,11 @@ double Solver::contact_energy() const {
   return e;
 }
 
+void Solver::refuse_unless_allowed(const std::string& message, const std::string& remedy) {
+  if (!case_.time.allow_unstable) throw InputError(message + "; remedy: " + remedy);
+  warnings_.push_back(message + "; running anyway ([time] allow_unstable = true)");
+}
+
 void Solver::setup_materials() {
   for (const meshing::BodyOutline& body : case_.outline.bodies) {
     const Material* mat = case_.find_material(body.material);
@@ -282,9 +286,7 @@ void Solver::setup_materials() {
           "): breakable bonds need shear springs that are not negative, i.e. nu <= 1/4 in plane strain and "
           "axisymmetry or nu <= 1/3 in plane stress (nu = " + fmt(mat->nu) + ", k_s = " +
           fmt(std::min(bm.springs.ks1, bm.springs.ks2)) + " N/m per m): breaking such bonds releases negative energy";
-      if (!case_.time.allow_unstable)
-        throw InputError(message + "; remedy: drop the strengths of this material, or set [time] allow_unstable = true to run anyway");
-      std::fprintf(stderr, "hexdem: warning: %s; running anyway ([time] allow_unstable = true)\n", message.c_str());
+      refuse_unless_allowed(message, "drop the strengths of this material, or set [time] allow_unstable = true to run anyway");
     }
     // Stability of the chosen shear model for this material (physics.md section 4).
     const double r = body.radius.value_or(0.0);
@@ -301,9 +303,8 @@ void Solver::setup_materials() {
           case_.source + ": [case] shear_model = \"" + shear_model_name(case_.shear_model) +
           "\" is unstable for material '" + mat->name + "' (id " + std::to_string(mat->id) + ", " +
           geometry_name(case_.geometry) + "): " + why;
-      if (!case_.time.allow_unstable) throw InputError(message + "; remedy: use shear_model = \"local-strain\"");
-      // A study of the instability itself (the paper's own model): run, and say so.
-      std::fprintf(stderr, "hexdem: warning: %s; running anyway ([time] allow_unstable = true)\n", message.c_str());
+      // allow_unstable: a study of the instability itself (the paper's own model).
+      refuse_unless_allowed(message, "use shear_model = \"local-strain\"");
     }
   }
 }

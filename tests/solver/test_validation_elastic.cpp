@@ -236,6 +236,9 @@ TEST(Stability, RotationModelOnMaterialBBlowsUpWhenAllowed) {
   const fs::path dir = fs::path(HEXDEM_TEST_WORK_DIR) / "rotation_blowup";
   fs::remove_all(dir);
   c.name = "rotation";
+  const Solver warned(c, mesh_case(c));
+  ASSERT_EQ(warned.warnings().size(), 1u);
+  EXPECT_NE(warned.warnings()[0].find("c66 - c12"), std::string::npos) << warned.warnings()[0];
   RunOptions ro;
   ro.out_dir = dir.string();
   ro.quiet = true;

@@ -107,6 +107,9 @@ public:
   [[nodiscard]] std::int64_t total_steps() const;
   /// One line per plastic material of the bodies: the plasticity model it uses and why.
   [[nodiscard]] const std::vector<std::string>& plasticity_report() const { return plasticity_report_; }
+  /// Unstable choices that [time] allow_unstable let through (one line each, no prefix);
+  /// `hexdem run` prints them as warnings.
+  [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
   /// Per-body Bloch results, in body order.
   [[nodiscard]] const std::vector<BlochResult>& bloch() const { return bloch_; }
 
@@ -129,6 +132,9 @@ private:
     double kinetic = 0, kinetic_sq = 0, ext_a = 0, ext_b = 0, damp_a = 0, damp_b = 0;
   };
 
+  /// Refuses an unstable choice (InputError: message; remedy), or with [time] allow_unstable
+  /// records it as a warning and goes on.
+  void refuse_unless_allowed(const std::string& message, const std::string& remedy);
   void setup_materials();
   void setup_boundaries();
   void setup_mirror_springs(const BoundaryCondition& bc, int set);
@@ -149,6 +155,7 @@ private:
   std::vector<BodyMaterial> body_materials_;
   std::vector<BlochResult> bloch_;
   std::vector<std::string> plasticity_report_;
+  std::vector<std::string> warnings_;
   std::vector<LoadSet> loads_;
   std::vector<VelocitySet> velocity_sets_;
   std::vector<std::int32_t> loaded_disks_;
