@@ -86,10 +86,7 @@ def main(argv):
         shown.ShowBorder = "Always"
         shown.BackgroundColor = [1.0, 1.0, 1.0, 0.7]
     title = args.title or "tau_max / p_max at %s, predicted fronts: qP, qS, head wave, Rayleigh" % fc.format_time(time)
-    fc.show_title(pv, view, title)
-    camera.apply(pv, view)
-    pv.Render(view)
-    fc.save(SCRIPT, pv, view, args.output, args.size)
+    fc.finish(SCRIPT, pv, view, camera, title, args.output, args.size)
 
 
 if __name__ == "__main__":

@@ -213,6 +213,14 @@ def save(script, pv, view, path, size):
         fail(script, "could not write '%s'" % path)
 
 
+def finish(script, pv, view, camera, title, path, size):
+    """Title, camera, render and PNG: the end of every figure script."""
+    show_title(pv, view, title)
+    camera.apply(pv, view)
+    pv.Render(view)
+    save(script, pv, view, path, size)
+
+
 def field_value(data, name, default=None):
     array = data.GetFieldData().GetAbstractArray(name)
     if array is None or array.GetNumberOfTuples() == 0:

@@ -80,10 +80,7 @@ def main(argv):
 
     title = args.title or "cracks   %s,  %s:  %d broken bonds, %.4g m" % (
         os.path.basename(args.input), fc.format_time(time), total, length)
-    fc.show_title(pv, view, title)
-    camera.apply(pv, view)
-    pv.Render(view)
-    fc.save(SCRIPT, pv, view, args.output, args.size)
+    fc.finish(SCRIPT, pv, view, camera, title, args.output, args.size)
 
 
 if __name__ == "__main__":

@@ -69,10 +69,7 @@ def main(argv):
     title = args.title or "fragments   %s,  %s:  %d of %d+ disks%s" % (
         os.path.basename(args.input), fc.format_time(time), count, args.min_disks,
         " (%d smaller: grey)" % smaller if smaller else "")
-    fc.show_title(pv, view, title)
-    camera.apply(pv, view)
-    pv.Render(view)
-    fc.save(SCRIPT, pv, view, args.output, args.size)
+    fc.finish(SCRIPT, pv, view, camera, title, args.output, args.size)
 
 
 if __name__ == "__main__":

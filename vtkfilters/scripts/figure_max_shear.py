@@ -63,10 +63,7 @@ def main(argv):
     disks.SetScalarBarVisibility(view, True)
 
     title = args.title or "%s   %s,  %s" % (label, os.path.basename(args.input), fc.format_time(time))
-    fc.show_title(pv, view, title)
-    camera.apply(pv, view)
-    pv.Render(view)
-    fc.save(SCRIPT, pv, view, args.output, args.size)
+    fc.finish(SCRIPT, pv, view, camera, title, args.output, args.size)
 
 
 if __name__ == "__main__":
