@@ -72,27 +72,26 @@ def _get(script, path, table, key, where):
     return table[key]
 
 
+def _read_toml(script, path):
+    """The parsed TOML file, or a one-line error naming it."""
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except OSError as e:
+        fail(script, "%s: cannot open: %s" % (path, e.strerror))
+    except tomllib.TOMLDecodeError as e:
+        fail(script, "%s: TOML parse error: %s" % (path, e))
+
+
 def load_plate(script, case_path=CASE_FILE, radius=None):
     """Reads the plate from the case file and its outline. `radius` [m] overrides the
     lattice radius (as the case file's [mesh] radius would). One-line errors name the file and
     key."""
-    try:
-        with open(case_path, "rb") as f:
-            case = tomllib.load(f)
-    except OSError as e:
-        fail(script, "%s: cannot open: %s" % (case_path, e.strerror))
-    except tomllib.TOMLDecodeError as e:
-        fail(script, "%s: TOML parse error: %s" % (case_path, e))
+    case = _read_toml(script, case_path)
     mesh = _get(script, case_path, case, "mesh", "top level")
     outline_path = os.path.join(os.path.dirname(case_path),
                                 _get(script, case_path, mesh, "outline", "mesh"))
-    try:
-        with open(outline_path, "rb") as f:
-            outline = tomllib.load(f)
-    except OSError as e:
-        fail(script, "%s: cannot open: %s" % (outline_path, e.strerror))
-    except tomllib.TOMLDecodeError as e:
-        fail(script, "%s: TOML parse error: %s" % (outline_path, e))
+    outline = _read_toml(script, outline_path)
     units = outline.get("units", "m")
     if units not in UNIT_SCALE:
         fail(script, "%s: units: unknown unit '%s'" % (outline_path, units))
