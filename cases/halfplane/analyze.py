@@ -40,6 +40,8 @@ import tomllib
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from run_status import require_completed  # noqa: E402
 import halfplane_reference as ref  # noqa: E402
 
 W = 0.25  # m: width and depth of the half model (outline.toml)
@@ -97,6 +99,7 @@ def read_probes(case, out_dir):
         fail("case '%s' has no [[probe]]" % case["name"])
     name = case["name"]
     path = os.path.join(out_dir, name + ".probes.csv")
+    require_completed(path)
     try:
         d = np.genfromtxt(path, delimiter=",", names=True, deletechars="")
     except OSError as e:

@@ -16,6 +16,8 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "..", "vtkfilters", "scripts"))
 
 import figure_common as fc  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, ".."))
+from run_status import require_completed  # noqa: E402
 
 SCRIPT = "figure_fronts"
 MATERIAL_B = ((5.0961e9, 1.2256e9, 3.5359e9, 1.2198e9), 1244.0)  # case.toml: Pa, kg/m^3
@@ -28,6 +30,7 @@ def main(argv):
                         help="colour range (default 0 0.3)")
     args = parser.parse_args(argv)
     fc.check_arguments(SCRIPT, args)
+    require_completed(args.input, SCRIPT)
 
     import analyze  # numpy; the front geometry
     from paraview import simple as pv

@@ -31,6 +31,8 @@ import sys
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree (the ctest imports these)
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from run_status import require_completed  # noqa: E402
 
 import calculix  # noqa: E402
 import plate as pl  # noqa: E402
@@ -83,6 +85,7 @@ def main(argv):
         pl.fail(SCRIPT, "hexdem run %s failed (exit %d): %s" % (case, proc.returncode,
                                                                 proc.stderr.strip()))
     plate = pl.load_plate(SCRIPT, case, radius=args.radius)
+    require_completed(os.path.join(run_dir, "narrow_plate.pvd"), SCRIPT)
     vtu, t = pl.frame_at(SCRIPT, os.path.join(run_dir, "narrow_plate.pvd"), plate.t_end)
     t, axis, mean = pl.lattice_profiles(SCRIPT, vtu, plate.radius)
     if abs(t - plate.t_end) > 1e-6 * plate.t_end:

@@ -22,6 +22,8 @@ import numpy as np
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree (the ctest imports these)
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from run_status import require_completed  # noqa: E402
 
 import plate as pl  # noqa: E402
 
@@ -153,6 +155,7 @@ def main(argv):
     series = os.path.join(args.run_dir, "narrow_plate.pvd")
     if not os.path.isfile(series):
         pl.fail(SCRIPT, "%s: no such file (run the case first)" % series)
+    require_completed(series, SCRIPT)
     vtu, t = pl.frame_at(SCRIPT, series, plate.t_end)
     if abs(t - plate.t_end) > 1e-3 * plate.t_end:
         pl.fail(SCRIPT, "%s: no frame at t = %g s (nearest %g s)" % (series, plate.t_end, t))

@@ -54,6 +54,8 @@ import numpy as np
 SCRIPT = "analyse.py"
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.dirname(HERE))
+from run_status import require_completed  # noqa: E402
 DISC_THICKNESS = 0.033  # m (outline.toml)
 PULVERISED_DISKS = 6
 SIZE_BINS = [(1, 1), (2, 6), (7, 19), (20, 99), (100, None)]
@@ -198,6 +200,7 @@ def cone_fit(a, target, disc_disks, ejected):
 
 
 def analyse(hexdem, pvd):
+    require_completed(pvd, SCRIPT)
     stem = pvd[:-4] if pvd.endswith(".pvd") else pvd
     name = os.path.basename(stem)
     frames = read_pvd(pvd)

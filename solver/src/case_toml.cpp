@@ -368,7 +368,7 @@ constexpr std::array<Key<InitialVelocity>, 2> kInitialVelocityKeys{{
      }},
 }};
 
-constexpr std::array<Key<TimeControl>, 5> kTimeKeys{{
+constexpr std::array<Key<TimeControl>, 7> kTimeKeys{{
     {"end", true,
      [](const auto& in, const auto& v, const auto& p, auto& t) { t.end = in.positive(v, p); }},
     {"dt", false,
@@ -386,6 +386,15 @@ constexpr std::array<Key<TimeControl>, 5> kTimeKeys{{
     {"mass_damping", false,
      [](const auto& in, const auto& v, const auto& p, auto& t) {
        t.mass_damping = in.non_negative(v, p);
+     }},
+    {"energy_warning", false,
+     [](const auto& in, const auto& v, const auto& p, auto& t) { t.energy_warning = in.positive(v, p); }},
+    {"energy_limit", false,
+     [](const auto& in, const auto& v, const auto& p, auto& t) {
+       t.energy_limit = in.positive(v, p);
+       if (t.energy_limit < t.energy_warning)
+         in.fail(v, p, "must not be below energy_warning = " + format_number(t.energy_warning) + " (got " +
+                           describe(v) + ")");
      }},
 }};
 
@@ -422,11 +431,16 @@ constexpr std::array<Key<Wall>, 3> kWallKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& w) { w.friction = in.non_negative(v, p); }},
 }};
 
-constexpr std::array<Key<ContactControl>, 1> kContactKeys{{
+constexpr std::array<Key<ContactControl>, 2> kContactKeys{{
     {"damping", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.damping = in.non_negative(v, p);
        if (!(o.damping < 1.0)) in.fail(v, p, "must lie in [0, 1) (fraction of critical damping, got " + describe(v) + ")");
+     }},
+    {"resolution", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) {
+       o.resolution = in.positive(v, p);
+       if (!(o.resolution <= 0.9)) in.fail(v, p, "must lie in (0, 0.9] (omega dt of a contact, got " + describe(v) + ")");
      }},
 }};
 

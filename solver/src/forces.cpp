@@ -23,9 +23,9 @@ void disk_strain(Model& m, std::size_t i) {
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-    if (!m.bond_intact(b)) continue;
-    const double ax = m.adj_ax[k], ay = m.adj_ay[k];
     const auto o = m.adj_other[k];
+    if (!m.bond_intact(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
+    const double ax = m.adj_ax[k], ay = m.adj_ay[k];
     const double dux = m.ux[o] - m.ux[i], duy = m.uy[o] - m.uy[i];
     gxx += dux * ax;
     gxy += dux * ay;
@@ -48,6 +48,7 @@ void compute_disk_strains(Model& m) {
 /// u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j) of bond b (local-strain model).
 inline double local_shear(const Model& m, std::size_t b) {
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+  if (!m.strain_ok[i] || !m.strain_ok[j]) return 0.0;  // a lone disk's bond: normal spring only
   return m.g_xx[b] * (m.eps_xx[i] + m.eps_xx[j]) + m.g_yy[b] * (m.eps_yy[i] + m.eps_yy[j]) +
          2.0 * m.g_xy[b] * (m.eps_xy[i] + m.eps_xy[j]);
 }
@@ -173,10 +174,19 @@ double j2_hardening_energy(const Model& m, std::size_t i) {
   return m.cell_area[i] * m.weight[i] * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
 }
 
-/// Tangential stiffness of broken bond b acting as a contact [N/m per unit width]: its shear
-/// spring, or half the normal one where the shear spring is not positive.
+/// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2.
+inline double contact_cap(const Model& m, std::size_t b) {
+  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+  return m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]) * m.contact_omega2;
+}
+
+/// Normal stiffness of broken bond b acting as a contact [N/m]: its normal spring, capped.
+inline double contact_normal_stiffness(const Model& m, std::size_t b) { return std::min(m.k_n[b], contact_cap(m, b)); }
+
+/// Tangential stiffness of broken bond b acting as a contact [N/m]: its shear spring, or half
+/// the normal one where the shear spring is not positive; capped.
 inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
-  return m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b];
+  return std::min(m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b], contact_cap(m, b));
 }
 
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
@@ -193,6 +203,39 @@ double intact_bond_energy(const Model& m, std::size_t b) {
     }
   }
   return e;
+}
+
+/// Energy stored in broken bond b acting as a contact [J]: its normal spring k_n delta^2 / 2
+/// at the overlap of the last update (not f_n^2 / (2 k_n): f_n includes the dashpot) and its
+/// tangential spring.
+double contact_bond_energy(const Model& m, std::size_t b) {
+  const double delta = std::max(m.radius[m.bi[b]] + m.radius[m.bj[b]] - m.len_prev[b], 0.0);
+  return 0.5 * contact_normal_stiffness(m, b) * delta * delta +
+         0.5 * m.f_s[b] * m.f_s[b] / contact_tangential_stiffness(m, b);
+}
+
+/// State II of bond b (physics.md section 8): a contact between its two disks, with their
+/// spins, at the current length `len` and direction n: compression only, Coulomb friction,
+/// a dashpot at a fraction of critical damping. `dt` is the step (its dashpot work), and
+/// `dt_shear` scales the tangential increment (0 for a contact that starts now).
+void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double ny, double dt, double dt_shear) {
+  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+  const double sx = -ny, sy = nx;
+  const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
+  const double delta = m.radius[i] + m.radius[j] - len;
+  const double du_s =
+      dt_shear * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+  const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.mu[b],
+                                m.contact_damping};
+  const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
+  laws::ContactState cs{m.f_n[b], m.f_s[b], m.f_damp[b]};
+  const laws::ContactStep st = law.update(cs, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
+  m.f_n[b] = cs.f_n;
+  m.f_s[b] = cs.f_s;
+  m.f_damp[b] = cs.f_v;
+  m.contact_damping_work[b] += st.damping_work(dt);
+  m.friction_work[b] += st.friction_dissipation_mid;
+  m.len_prev[b] = len;
 }
 
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
@@ -217,20 +260,7 @@ void compute_bond_forces(Model& m, double dt) {
     m.ny[b] = ny;
     const double sx = -ny, sy = nx;
     if (!m.bond_intact(static_cast<std::size_t>(b))) {
-      // State II: a contact between the two disks, with their spins (physics.md section 8).
-      const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
-      const double delta = m.radius[i] + m.radius[j] - len;
-      const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-      const laws::LinearContact law{m.k_n[b], contact_tangential_stiffness(m, static_cast<std::size_t>(b)), m.mu[b],
-                                    m.contact_damping};
-      const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
-      laws::ContactState cs{m.f_n[b], m.f_s[b]};
-      const laws::ContactStep st = law.update(cs, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
-      m.f_n[b] = cs.f_n;
-      m.f_s[b] = cs.f_s;
-      m.contact_damping_work[b] += st.damping_power * dt;
-      m.friction_work[b] += st.friction_dissipation;
-      m.len_prev[b] = len;
+      broken_bond_contact(m, static_cast<std::size_t>(b), len, nx, ny, dt, dt);
       continue;
     }
     const double du_n = len - m.len_prev[b];
@@ -282,21 +312,9 @@ void compute_bond_forces(Model& m, double dt) {
       const laws::BondStrength strength{law.f_t * rf.tension * sec, law.f_c * rf.compression * sec,
                                         law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
       const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], strength);
-      if (mode != laws::FailureMode::None) {
-        // The stored energy of the bond is released (it enters the balance as fracture).
-        double e = intact_bond_energy(m, static_cast<std::size_t>(b));
-        // Leap-frog's kinetic energy at t_n already contains half a step of the force the bond
-        // would have applied: removing it now also removes dt/2 v(t-dt/2).F from it.
-        const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
-        e -= 0.5 * dt * (dvx * (m.f_n[b] * nx + m.f_s[b] * sx) + dvy * (m.f_n[b] * ny + m.f_s[b] * sy));
-        if (rotation) e += 0.5 * dt * (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]) * m.f_s[b];
-        m.fracture_energy[b] += e;
-        m.state[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
-        m.break_time[b] = m.time;
-        m.f_n[b] = m.f_s[b] = m.alpha_n[b] = m.alpha_s[b] = 0.0;
-        m.u_s[b] = 0.0;
-        m.newly_broken[b] = 1;
-      }
+      // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into a
+      // contact and books what the break releases.
+      if (mode != laws::FailureMode::None) m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
     }
   }
 }
@@ -371,10 +389,12 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
       fx += s * f_x;
       fy += s * f_y;
       if (strain_terms) {
+        // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
         const auto o = m.adj_other[k];
         const double ax = m.adj_ax[k], ay = m.adj_ay[k];
-        const double wxx = m.w_xx[i] + m.w_xx[o], wxy = m.w_xy[i] + m.w_xy[o];
-        const double wyx = m.w_yx[i] + m.w_yx[o], wyy = m.w_yy[i] + m.w_yy[o];
+        const double ci = m.strain_ok[o] ? 1.0 : 0.0, co = m.strain_ok[i] ? 1.0 : 0.0;
+        const double wxx = ci * m.w_xx[i] + co * m.w_xx[o], wxy = ci * m.w_xy[i] + co * m.w_xy[o];
+        const double wyx = ci * m.w_yx[i] + co * m.w_yx[o], wyy = ci * m.w_yy[i] + co * m.w_yy[o];
         fx += wxx * ax + wxy * ay;
         fy += wyx * ax + wyy * ay;
       }
@@ -394,7 +414,7 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
 
 }  // namespace
 
-void compute_internal_forces(Model& m, double dt) {
+std::size_t compute_internal_forces(Model& m, double dt) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
   const bool hoop = m.geometry == Geometry::Axisymmetric;
   const bool strains = local || hoop || m.any_j2;
@@ -403,6 +423,7 @@ void compute_internal_forces(Model& m, double dt) {
   compute_bond_forces(m, dt);
   if (strains) compute_strain_conjugates(m, local, hoop);
   gather_forces(m, !local, strains, hoop);
+  return m.any_breakable ? settle_broken_bonds(m, dt) : 0;
 }
 
 double elastic_energy(const Model& m) {
@@ -410,9 +431,7 @@ double elastic_energy(const Model& m) {
       m.num_bonds(),
       [&](std::size_t b) {
         if (m.bond_intact(b)) return intact_bond_energy(m, b);
-        // A contact: its normal spring and its tangential one.
-        const double en = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
-        return en + 0.5 * m.f_s[b] * m.f_s[b] / contact_tangential_stiffness(m, b);
+        return contact_bond_energy(m, b);
       },
       m.scratch);
   e += deterministic_sum(
@@ -452,55 +471,105 @@ BondDissipation bond_dissipation(const Model& m) {
   return d;
 }
 
-std::size_t settle_broken_bonds(Model& m) {
-  const bool strains = m.shear_model == ShearModel::LocalStrain || m.geometry == Geometry::Axisymmetric || m.any_j2;
+std::size_t settle_broken_bonds(Model& m, double dt) {
+  const bool local = m.shear_model == ShearModel::LocalStrain;
+  const bool hoop = m.geometry == Geometry::Axisymmetric;
+  const bool strains = local || hoop || m.any_j2;
+  // The bonds found past their strength, in ascending order (a fixed order: deterministic).
+  std::size_t first = m.num_bonds();
   std::size_t broken = 0;
-  std::array<std::size_t, 64> touched{};  // intact bonds whose shear depends on the two disks
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
     if (!m.newly_broken[b]) continue;
-    m.newly_broken[b] = 0;
-    ++broken;
+    if (broken++ == 0) first = b;
+  }
+  if (broken == 0) return 0;
+  // Forces with the bonds still intact, as the pass computed them.
+  std::copy(m.fx.begin(), m.fx.end(), m.fx_intact.begin());
+  std::copy(m.fy.begin(), m.fy.end(), m.fy_intact.begin());
+  std::copy(m.torque.begin(), m.torque.end(), m.torque_intact.begin());
+
+  std::array<std::size_t, 64> touched{};  // intact bonds whose shear depends on the two disks
+  double potential = 0, weights = 0;
+  for (std::size_t b = first; b < m.num_bonds(); ++b) {
+    if (!m.newly_broken[b]) continue;
     const std::array<std::size_t, 2> disks{static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b])};
-    if (!strains) continue;
-    // The two disks lose a neighbour: their least-squares strain changes at once, and with it
-    // the local-strain shear energy of their other bonds and their hoop energy. The change is
-    // part of what breaking releases, so it is booked as fracture energy.
+    // The potential part of the release: every energy term that the break changes, before
+    // and after. The two disks lose a neighbour, so their least-squares strain changes, and
+    // with it the local-strain shear energy of their other bonds and their hoop and J2 terms.
     std::size_t count = 0;
-    for (std::size_t i : disks)
-      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && count < touched.size(); ++k) {
-        const auto c = static_cast<std::size_t>(m.adj_bond[k]);
-        if (m.bond_intact(c) && std::find(touched.begin(), touched.begin() + count, c) == touched.begin() + count)
-          touched[count++] = c;
-      }
-    const bool local = m.shear_model == ShearModel::LocalStrain;
+    if (strains) {
+      for (std::size_t i : disks)
+        for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && count < touched.size(); ++k) {
+          const auto c = static_cast<std::size_t>(m.adj_bond[k]);
+          if (c != b && m.bond_intact(c) &&
+              std::find(touched.begin(), touched.begin() + count, c) == touched.begin() + count)
+            touched[count++] = c;
+        }
+    }
     auto energy = [&]() {
-      double e = 0;
+      double e = m.bond_intact(b) ? intact_bond_energy(m, b) : contact_bond_energy(m, b);
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t c = touched[k];
         if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * m.f_s[c] * m.f_s[c] / m.k_s[c];
       }
       for (std::size_t i : disks) {
-        if (m.geometry == Geometry::Axisymmetric) e += hoop_energy(m, i);
+        if (hoop) e += hoop_energy(m, i);
         if (m.any_j2 && m.j2_sigma_y[i] > 0) e += j2_correction_energy(m, i);
       }
       return e;
     };
     const double before = energy();
-    for (std::size_t i : disks) {
-      update_strain_matrix(m, i);
-      disk_strain(m, i);
+    const double own = intact_bond_energy(m, b);
+    m.state[b] = m.newly_broken[b];  // BondState = 1 + FailureMode
+    m.break_time[b] = m.time;
+    // The bond becomes a contact that starts now: no shear history, the normal force of
+    // its overlap (a bond that breaks in compression keeps pushing).
+    m.f_n[b] = m.f_s[b] = m.f_damp[b] = m.alpha_n[b] = m.alpha_s[b] = 0.0;
+    m.u_s[b] = 0.0;
+    broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
+    if (strains) {
+      for (std::size_t i : disks) {
+        update_strain_matrix(m, i);
+        disk_strain(m, i);
+      }
+      for (std::size_t k = 0; k < count && local; ++k) {
+        const std::size_t c = touched[k];
+        m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
+        if (m.f_yield[c] == 0) m.f_s[c] = m.k_s[c] * m.u_s[c];
+      }
+      // J2 disks keep their plastic strain; the stress that the next plastic increment's work
+      // starts from is the one after the break.
+      if (m.any_j2)
+        for (std::size_t i : disks)
+          if (m.j2_sigma_y[i] > 0) store_j2_stress(m, i);
     }
-    for (std::size_t k = 0; k < count && local; ++k) {
-      const std::size_t c = touched[k];
-      m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
-      if (m.f_yield[c] == 0) m.f_s[c] = m.k_s[c] * m.u_s[c];
-    }
-    // J2 disks keep their plastic strain; the stress that the next plastic increment's work
-    // starts from is the one after the break.
-    if (m.any_j2)
-      for (std::size_t i : disks)
-        if (m.j2_sigma_y[i] > 0) store_j2_stress(m, i);
-    m.fracture_energy[b] += before - energy();
+    potential += before - energy();
+    // Until the end of this pass a new break's fracture_energy holds its weight: the energy
+    // its springs stored.
+    m.fracture_energy[b] = own;
+    weights += own;
+  }
+  // The forces without the broken bonds, and the kinetic part of the release: leap-frog's
+  // kinetic energy at t_n, v(t-dt/2).v(t+dt/2) / 2, holds half a step of the force at t_n,
+  // so changing that force by dF changes it by (dt/2) v(t-dt/2).dF.
+  if (strains) compute_strain_conjugates(m, local, hoop);
+  gather_forces(m, !local, strains, hoop);
+  const double kinetic = 0.5 * dt * deterministic_sum(
+      m.num_disks(),
+      [&](std::size_t i) {
+        return m.vx[i] * (m.fx_intact[i] - m.fx[i]) + m.vy[i] * (m.fy_intact[i] - m.fy[i]) +
+               m.omega[i] * (m.torque_intact[i] - m.torque[i]);
+      },
+      m.scratch);
+  // What the breaks of this pass released together, shared by the bonds in proportion to the
+  // energy each stored (equally if none stored any): simultaneous breaks change the same
+  // disks' strains, so only the pass's total is a property of the breaks.
+  const double released = potential + kinetic;
+  for (std::size_t b = first; b < m.num_bonds(); ++b) {
+    if (!m.newly_broken[b]) continue;
+    m.newly_broken[b] = 0;
+    m.fracture_energy[b] = weights > 0 ? released * (m.fracture_energy[b] / weights)
+                                       : released / static_cast<double>(broken);
   }
   return broken;
 }

@@ -88,6 +88,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   }
   m.failure_law.assign(nb, -1);
   m.newly_broken.assign(nb, 0);
+  m.f_damp.assign(nb, 0.0);
   for (const BodyMaterial& bm : materials) {
     laws::MohrCoulombFailure law;
     if (bm.material->breakable) {
@@ -117,7 +118,17 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     // A bond along a neat edge (two semi-disks) has half a bond's area in the region: half
     // its stiffness, so that the lattice energy under a homogeneous strain is the
     // continuum's right up to the edge.
-    const double w = (axisym ? lat.bond_b[b] : thickness) * (lat.bond_on_edge[b] ? 0.5 : 1.0);
+    double ring = axisym ? lat.bond_b[b] : 0.0;
+    if (axisym && lat.bond_on_edge[b] && !(ring > 1e-9 * m.radius[i])) {
+      // A bond along the axis (two semi-disks on r = 0, a rotated lattice's bond direction):
+      // its midpoint has no ring radius, yet the half of its area inside the region does.
+      // Weigh it by that half's centroid, r / (3 sqrt 3) from the axis (the half rhombus
+      // of half-width r / sqrt 3), not by 0: with 0 (or the -1e-20 that round-off gives) its
+      // springs and strengths vanished or turned negative, and every such bond broke in
+      // tension at t = 0.
+      ring = m.radius[i] / (3.0 * 1.7320508075688772935);
+    }
+    const double w = (axisym ? ring : thickness) * (lat.bond_on_edge[b] ? 0.5 : 1.0);
     const bool axis_class = m.bond_class[b] == 1;
     m.k_n[b] = (axis_class ? K.kn1 : K.kn2) * w;
     m.k_s[b] = (axis_class ? K.ks1 : K.ks2) * w;
@@ -165,13 +176,28 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.adj_ax[pj] = -m.ax[b];
     m.adj_ay[pj] = -m.ay[b];
   }
-  update_strain_matrices(m);
+  if (m.any_breakable) {
+    for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact}) v->assign(n, 0.0);
+  }
+  // Disks with a local strain of their own: eliminate those whose fit over the remaining
+  // ones is singular until none is left (a chain of lone disks goes in a few rounds).
+  m.strain_ok.assign(n, 1);
+  for (bool changed = true; changed;) {
+    update_strain_matrices(m);
+    changed = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (m.strain_ok[i] && m.minv_xx[i] == 0 && m.minv_yy[i] == 0) {
+        m.strain_ok[i] = 0;
+        changed = true;
+      }
+    }
+  }
   return m;
 }
 
 void reset_bond_history(Model& m) {
   for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s, &m.plastic_work, &m.fracture_energy,
-                  &m.contact_damping_work, &m.friction_work}) {
+                  &m.contact_damping_work, &m.friction_work, &m.f_damp}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   m.len_prev = m.rest_length;
@@ -191,7 +217,7 @@ void update_strain_matrix(Model& m, std::size_t i) {
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-    if (!m.bond_intact(b)) continue;
+    if (!m.bond_intact(b) || !m.strain_ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
     sxx += m.adj_ax[k] * m.adj_ax[k];
     sxy += m.adj_ax[k] * m.adj_ay[k];
     syy += m.adj_ay[k] * m.adj_ay[k];

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <limits>
@@ -17,6 +18,7 @@
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/toml_values.hpp"
 
 namespace hexdem::solver {
 namespace {
@@ -187,7 +189,9 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
   energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
   probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
   bodies_path_ = (fs::path(dir_) / (name_ + ".bodies.csv")).string();
+  status_path_ = (fs::path(dir_) / (name_ + ".status")).string();
   fs::remove(pvd_path_, ec);
+  write_status("running");
 
   energy_.open(energy_path_, std::ios::trunc);
   if (!energy_) throw std::runtime_error(energy_path_ + ": cannot write");
@@ -207,6 +211,12 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
       for (std::size_t i = 0; i < m.num_disks(); ++i) {
         const double d = std::hypot(m.x0[i] - p.point[0], m.y0[i] - p.point[1]);
         if (d < best_d) { best_d = d; best = i; }
+      }
+      // A probe outside every body would record a disk far from where it was asked for.
+      if (!(best_d <= 2 * m.radius[best])) {
+        throw InputError(p.where + ": probe '" + p.name + "' selects no disk: its point lies " +
+                         meshing::format_number(best_d) + " m from the nearest disk centre (radius " +
+                         meshing::format_number(m.radius[best]) + " m), outside every body");
       }
       std::vector<std::string> fields = p.fields;
       if (fields.empty()) fields = {"displacement", "velocity", "stress", "rotation", "spin"};
@@ -237,6 +247,10 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
     for (const std::string& b : c.output.body_history) {
       const auto at = std::find(names.begin(), names.end(), b);
       if (at == names.end()) throw InputError(c.source + ": output.body_history: unknown body '" + b + "'");
+      const auto index = static_cast<std::int32_t>(at - names.begin());
+      const Model& m = solver.model();
+      if (std::find(m.body.begin(), m.body.end(), index) == m.body.end())
+        throw InputError(c.source + ": output.body_history: body '" + b + "' selects no disk (it has none)");
       body_slot_[static_cast<std::size_t>(at - names.begin())] = static_cast<int>(body_sums_.size());
       body_sums_.push_back({});
       for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) bodies_ << "," << b << "." << col;
@@ -335,6 +349,19 @@ void RunOutput::write_bodies(const Solver& solver) {
   bodies_ << "\n";
 }
 
+void RunOutput::write_status(const std::string& line) {
+  const std::string tmp = status_path_ + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << line << "\n";
+    f.flush();
+    if (!f) throw std::runtime_error(tmp + ": cannot write");
+  }
+  std::error_code ec;
+  fs::rename(tmp, status_path_, ec);
+  if (ec) throw std::runtime_error(status_path_ + ": cannot write (" + ec.message() + ")");
+}
+
 int run_case(const Case& c, const RunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   if (options.threads > 0) omp_set_num_threads(options.threads);
@@ -372,14 +399,14 @@ int run_case(const Case& c, const RunOptions& options) {
   for (const std::string& w : solver.warnings()) std::fprintf(stderr, "hexdem: warning: %s\n", w.c_str());
   bool ok = true;
   double max_error = 0;
-  bool frame = false, probe = false, energy_row = false;
+  bool frame = false, probe = false, energy_row = false, warned = false;
   // Built once: a std::function made per step would allocate per step.
   const std::function<void(const Solver&)> at_tn = [&](const Solver& s) {
     const auto t0 = std::chrono::steady_clock::now();
     if (frame) out.write_frame(s);
     if (energy_row) {
       out.write_energy(s);
-      if (s.energy().input() > 0) max_error = std::max(max_error, std::abs(s.energy().relative_error()));
+      max_error = std::max(max_error, std::abs(s.energy().relative_error()));
     }
     if (probe) {
       out.write_probes(s);
@@ -395,6 +422,10 @@ int run_case(const Case& c, const RunOptions& options) {
     energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
     const bool check = energy_row || n % 50 == 0;
     ok = solver.advance(check, at_tn);
+    if (!warned && !solver.energy_warning().empty()) {
+      warned = true;
+      std::fprintf(stderr, "%shexdem: warning: %s\n", options.progress ? "\n" : "", solver.energy_warning().c_str());
+    }
     if (!ok) break;
     if (frame_dt > 0) while (next_frame <= t + 0.5 * dt) next_frame += frame_dt;
     if (probe) while (next_probe <= t + 0.5 * dt) next_probe += (probe_dt > 0 ? probe_dt : dt);
@@ -414,16 +445,24 @@ int run_case(const Case& c, const RunOptions& options) {
   if (!ok) {
     if (options.progress) std::fprintf(stderr, "\n");
     const BlowUp& b = solver.blow_up();
+    // Every frame written passed the checks of its step (Solver::advance checks before it
+    // hands the state out), so the last one is good.
     std::fprintf(stderr,
-                 "hexdem: error: numerical blow-up at step %lld (t = %.6g s): %s; dt = %.6g s, critical %.6g s; "
+                 "hexdem: error: %s at step %lld (t = %.6g s): %s; dt = %.6g s, critical %.6g s; "
                  "last good frame: %s\n",
+                 b.kind == BlowUp::Kind::EnergyLimit ? "energy balance failure" : "numerical blow-up",
                  static_cast<long long>(b.step), b.time, b.reason.c_str(), dt, ts.dt_critical,
                  out.last_frame().empty() ? "none" : out.last_frame().c_str());
+    out.write_status(std::string("failed: ") +
+                     (b.kind == BlowUp::Kind::EnergyLimit ? "energy balance failure" : "numerical blow-up") +
+                     " at t = " + meshing::format_number(b.time) + " s: " + b.reason);
     return kExitFailure;
   }
+  out.write_status("completed");
   if (!options.quiet) {
     const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-    std::printf("  done: %zu frames, max |energy error| %.3g\n", out.frames(), max_error);
+    std::printf("  done: %zu frames, max |energy error| %.3g\n", out.frames(), std::max(max_error, solver.max_energy_error()));
+    if (warned) std::printf("  warning: %s\n", solver.energy_warning().c_str());
     const double step_seconds = wall - secs(wall0, wall_setup) - output_seconds;
     std::printf("  wall %.2f s: mesh %.2f s, set-up %.2f s, steps %.2f s, output %.2f s\n", wall,
                 secs(wall0, wall_mesh), secs(wall_mesh, wall_setup), step_seconds, output_seconds);

@@ -4,6 +4,7 @@
 #include "hexdem/solver/solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -46,11 +47,105 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
   setup_initial_velocities();
   setup_contacts();
   choose_time_step();
+  setup_contact_resolution();
+  setup_energy_scale();
+}
+
+void Solver::setup_contact_resolution() {
+  // Contacts (between bodies, fragments, broken bonds and walls) are one-sided springs:
+  // central differences integrate the instant a spring engages or lets go with an error of
+  // order (omega dt)^2 of the contact's energy, omega = sqrt(k / m_eff). At the lattice's own
+  // step a contact as stiff as a bond has omega dt of 0.6-0.9, and a run with many contacts
+  // (fragments) created several % of its input energy that way (docs/model.md, "Energy at
+  // contacts"). A contact is therefore made no stiffer than its masses and the step resolve
+  // with omega dt <= 0.25 (about 12 steps per half period; O'Sullivan and Bray, Eng. Comput.
+  // 21 (2004) 278, recommend a fraction of the critical step for accuracy), which also
+  // keeps it inside the stability bound of the dashpot, omega dt < 2 (sqrt(1 + eta^2) - eta).
+  const double eta = case_.contact.damping;
+  const double beta = std::min(case_.contact.resolution, 0.9 * (std::sqrt(1.0 + eta * eta) - eta));
+  model_.contact_omega2 = (beta / dt_info_.dt) * (beta / dt_info_.dt);
+}
+
+void Solver::setup_energy_scale() {
+  // The elastic energy of the model at a uniform strain of 1e-9 [J]: far above round-off
+  // (about 1e-16 of a run's energies), far below any loading worth simulating.
+  constexpr double kStrain = 1e-9;
+  std::vector<double> c11;
+  for (const BodyMaterial& bm : body_materials_) c11.push_back(bm.material->stiffness(case_.geometry).c11);
+  double e = 0;
+  for (std::size_t i = 0; i < model_.num_disks(); ++i)
+    e += 0.5 * c11[static_cast<std::size_t>(model_.body[i])] * kStrain * kStrain * model_.cell_area[i] * model_.weight[i];
+  energy_.scale = e;
+}
+
+bool Solver::check_energy(const StepSums& s, bool diagnostics) {
+  const EnergyBalance& e = energy_;
+  const double scale = std::max(std::abs(e.input()), e.scale);
+  auto fail = [&](BlowUp::Kind kind, std::string reason) {
+    blow_up_.kind = kind;
+    blow_up_.step = step_;
+    blow_up_.time = time_;
+    blow_up_.reason = std::move(reason);
+    return false;
+  };
+  // The leap-frog kinetic energy v(t-dt/2).v(t+dt/2) turns negative in an unstable mode
+  // (the half-step velocities alternate in sign): judge growth on the mean of the squares,
+  // and on the magnitude of the elastic energy (a lattice that has become indefinite makes
+  // it negative). The velocities already reach t + dt/2: so does the input this is
+  // compared with.
+  const double elastic = diagnostics ? e.elastic : 0.0;
+  const double mech = s.kinetic_sq + std::abs(elastic);
+  const double limit = 10.0 * std::max(e.input() + std::max(s.ext_b, 0.0), e.scale);
+  if (!std::isfinite(mech) || !std::isfinite(e.external_work))
+    return fail(BlowUp::Kind::BlowUp, "the state is no longer finite");
+  if (mech > limit) {
+    return fail(BlowUp::Kind::BlowUp, "the kinetic and elastic energy (" + fmt(mech) + " J) exceed ten times the input (" +
+                                          fmt(std::max(e.input(), e.scale)) + " J)");
+  }
+  if (!diagnostics) return true;
+  if (elastic < -case_.time.energy_limit * scale) {
+    return fail(BlowUp::Kind::BlowUp, "the elastic energy is negative (" + fmt(elastic) + " J, input " +
+                                          fmt(e.input()) + " J): the lattice has become unstable");
+  }
+  const double err = std::abs(e.relative_error());
+  if (err > case_.time.energy_limit || (err > case_.time.energy_warning && energy_warning_.empty())) {
+    // The ledger terms that moved since the last checked step, largest first.
+    const std::array<std::pair<const char*, double>, 9> terms{{
+        {"kinetic", e.kinetic - last_checked_.kinetic},
+        {"elastic", e.elastic - last_checked_.elastic},
+        {"external_work", e.external_work - last_checked_.external_work},
+        {"damping", e.damping - last_checked_.damping},
+        {"plastic", e.plastic - last_checked_.plastic},
+        {"fracture", e.fracture - last_checked_.fracture},
+        {"contact_damping", e.contact_damping - last_checked_.contact_damping},
+        {"friction", e.friction - last_checked_.friction},
+        {"total", e.total() - last_checked_.total()},
+    }};
+    std::array<std::size_t, 8> order{0, 1, 2, 3, 4, 5, 6, 7};
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return std::abs(terms[a].second) > std::abs(terms[b].second); });
+    std::string moved;
+    for (std::size_t k = 0; k < 3; ++k)
+      moved += std::string(k ? ", " : "") + terms[order[k]].first + " " + (terms[order[k]].second >= 0 ? "+" : "") +
+               fmt(terms[order[k]].second) + " J";
+    const std::string what = "energy error " + fmt(100 * err, 3) + " % of max(input " + fmt(e.input()) +
+                             " J, scale " + fmt(e.scale) + " J) at t = " + fmt(time_, 6) + " s; since t = " +
+                             fmt(last_checked_time_, 6) + " s: " + moved + ", total " +
+                             (terms[8].second >= 0 ? "+" : "") + fmt(terms[8].second) + " J";
+    if (err > case_.time.energy_limit)
+      return fail(BlowUp::Kind::EnergyLimit, what + " (above [time] energy_limit = " + fmt(case_.time.energy_limit) + ")");
+    energy_warning_ = what + " (above [time] energy_warning = " + fmt(case_.time.energy_warning) + ")";
+  }
+  max_energy_error_ = std::max(max_energy_error_, err);
+  last_checked_ = e;
+  last_checked_time_ = time_;
+  return true;
 }
 
 void Solver::setup_contacts() {
   wall_fn_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
   wall_fs_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
+  wall_fv_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
   // Never-bonded disks can only meet when there are several bodies or bonds can break.
   contacts_on_ = case_.outline.bodies.size() > 1 || model_.any_breakable;
   if (!contacts_on_) return;
@@ -110,7 +205,8 @@ void Solver::contact_forces(double dt) {
     const double dx = px_[j] - px_[i], dy = py_[j] - py_[i];
     const double d = std::hypot(dx, dy);
     const double delta = m.radius[i] + m.radius[j] - d;
-    if (delta <= 0 && c.f_n == 0 && c.f_s == 0) continue;
+    // Apart, with nothing left to release (f_v: the dashpot's second half step).
+    if (delta <= 0 && c.f_n == 0 && c.f_s == 0 && c.f_v == 0) continue;
     const double nx = dx / d, ny = dy / d, sx = -ny, sy = nx;
     const std::size_t bi = static_cast<std::size_t>(m.body[i]), bj = static_cast<std::size_t>(m.body[j]);
     // Width: the thickness, or (per radian) the mean ring radius of the two disks, as their
@@ -125,12 +221,13 @@ void Solver::contact_forces(double dt) {
                                   case_.contact.damping};
     const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
     const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-    laws::ContactState st{c.f_n, c.f_s};
+    laws::ContactState st{c.f_n, c.f_s, c.f_v};
     const laws::ContactStep step = law.update(st, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
     c.f_n = st.f_n;
     c.f_s = st.f_s;
-    contact_damping_work_ += step.damping_power * dt;
-    contact_friction_work_ += step.friction_dissipation;
+    c.f_v = st.f_v;
+    contact_damping_work_ += step.damping_work(dt);
+    contact_friction_work_ += step.friction_dissipation_mid;
     // Force on i: f_n n + f_s s (compression pushes i away from j); moments +r f_s on both.
     const double fx = c.f_n * nx + c.f_s * sx, fy = c.f_n * ny + c.f_s * sy;
     m.fx[i] += fx;
@@ -157,7 +254,8 @@ void Solver::wall_forces(double dt) {
       const double delta = m.radius[i] - ((x - wall.point[0]) * nx + (y - wall.point[1]) * ny);
       double& fn = wall_fn_[w][i];
       double& fs = wall_fs_[w][i];
-      if (delta <= 0 && fn == 0 && fs == 0) continue;
+      double& fv = wall_fv_[w][i];
+      if (delta <= 0 && fn == 0 && fs == 0 && fv == 0) continue;
       const auto b = static_cast<std::size_t>(m.body[i]);
       const double width = axisym ? m.weight[i] : case_.thickness;
       const double cap = contact_stiffness_cap(m.mass[i]);
@@ -167,13 +265,14 @@ void Solver::wall_forces(double dt) {
       const double kt = std::min((K.ks1 > 0 ? K.ks1 : 0.5 * K.kn1) * width, cap);
       const laws::LinearContact law{kn, kt, mu, case_.contact.damping};
       const double du_s = dt * (-(m.vx[i] * sx + m.vy[i] * sy) - m.radius[i] * m.omega[i]);
-      laws::ContactState st{fn, fs};
+      laws::ContactState st{fn, fs, fv};
       const laws::ContactStep step =
           law.update(st, delta, m.vx[i] * ex + m.vy[i] * ey, du_s, law.damping_coefficient(m.mass[i]));
       fn = st.f_n;
       fs = st.f_s;
-      contact_damping_work_ += step.damping_power * dt;
-      contact_friction_work_ += step.friction_dissipation;
+      fv = st.f_v;
+      contact_damping_work_ += step.damping_work(dt);
+      contact_friction_work_ += step.friction_dissipation_mid;
       m.fx[i] += fn * ex + fs * sx;
       m.fy[i] += fn * ey + fs * sy;
       m.torque[i] += m.radius[i] * fs;
@@ -181,33 +280,30 @@ void Solver::wall_forces(double dt) {
   }
 }
 
-double Solver::contact_stiffness_cap(double m_eff) const {
-  // A contact of two small disks (a sharp nose, a corner) may be far stiffer, for its
-  // masses, than the lattice the time step was chosen for. Central differences with the
-  // dashpot are stable for omega dt < 2 (sqrt(1 + eta^2) - eta); a contact is kept at half of
-  // that (a disk may have several), i.e. k <= m_eff (0.45 g / dt)^2 with g that bound.
-  const double eta = case_.contact.damping;
-  const double g = 2.0 * (std::sqrt(1.0 + eta * eta) - eta);
-  const double w = 0.45 * g / dt_info_.dt;
-  return m_eff * w * w;
-}
+double Solver::contact_stiffness_cap(double m_eff) const { return m_eff * model_.contact_omega2; }
 
 double Solver::contact_energy() const {
   double e = 0;
   for (std::size_t w = 0; w < case_.walls.size(); ++w) {
     for (std::size_t i = 0; i < model_.num_disks(); ++i) {
       const double fn = wall_fn_[w][i], fs = wall_fs_[w][i];
-      if (fn == 0 && fs == 0) continue;
+      // A contact whose force the cut holds at zero still has its spring compressed.
+      if (fn == 0 && fs == 0 && wall_fv_[w][i] == 0) continue;
       const auto b = static_cast<std::size_t>(model_.body[i]);
       const double width = case_.geometry == Geometry::Axisymmetric ? model_.weight[i] : case_.thickness;
       const double cap = contact_stiffness_cap(model_.mass[i]);
       const SpringConstants& K = body_materials_[b].springs;
-      e += 0.5 * fn * fn / std::min(K.kn1 * width, cap) +
+      const Wall& wall = case_.walls[w];
+      const double x = model_.x0[i] + model_.ux[i], y = model_.y0[i] + model_.uy[i];
+      const double delta = std::max(
+          model_.radius[i] - ((x - wall.point[0]) * wall.normal[0] + (y - wall.point[1]) * wall.normal[1]), 0.0);
+      // The springs' energy: k_n delta^2 / 2 (f_n also holds the dashpot's force).
+      e += 0.5 * std::min(K.kn1 * width, cap) * delta * delta +
            0.5 * fs * fs / std::min((K.ks1 > 0 ? K.ks1 : 0.5 * K.kn1) * width, cap);
     }
   }
   for (const Contact& c : contacts_) {
-    if (c.f_n == 0 && c.f_s == 0) continue;
+    if (c.f_n == 0 && c.f_s == 0 && c.f_v == 0) continue;
     const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
     const std::size_t bi = static_cast<std::size_t>(model_.body[i]), bj = static_cast<std::size_t>(model_.body[j]);
     const double w = case_.geometry == Geometry::Axisymmetric ? 0.5 * (model_.weight[i] + model_.weight[j])
@@ -215,7 +311,9 @@ double Solver::contact_energy() const {
     const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
     const double cap = contact_stiffness_cap(model_.mass[i] * model_.mass[j] / (model_.mass[i] + model_.mass[j]));
-    if (kn > 0) e += 0.5 * c.f_n * c.f_n / std::min(kn, cap);
+    const double delta =
+        std::max(model_.radius[i] + model_.radius[j] - std::hypot(px_[j] - px_[i], py_[j] - py_[i]), 0.0);
+    if (kn > 0) e += 0.5 * std::min(kn, cap) * delta * delta;
     if (kt > 0) e += 0.5 * c.f_s * c.f_s / std::min(kt, cap);
   }
   return e;
@@ -316,11 +414,18 @@ void Solver::setup_boundaries() {
     const int s = lattice_.find_set(bc.set);
     if (s < 0) throw InputError(bc.where + ": unknown boundary set '" + bc.set + "'");
     VelocitySet vs{&bc, {}};
+    std::size_t held = 0;
+    double nearest = std::numeric_limits<double>::infinity(), r_nearest = 0;
     for (auto e = lattice_.set_offset[s]; e < lattice_.set_offset[s + 1]; ++e) {
       const auto i = static_cast<std::size_t>(lattice_.set_disk[e]);
+      if (lattice_.set_distance[e] < nearest) {
+        nearest = lattice_.set_distance[e];
+        r_nearest = model_.radius[i];
+      }
       // Only disks whose centre is closer than r to the edge are held: on a symmetry plane
       // that runs across the lattice rows, the disks one radius off it must stay free.
       if (!(lattice_.set_distance[e] < (1 - 1e-6) * model_.radius[i])) continue;
+      ++held;
       std::uint8_t& bits = model_.constraint[i];
       switch (bc.kind) {
         case BoundaryCondition::Kind::Fixed:
@@ -341,6 +446,15 @@ void Solver::setup_boundaries() {
           owner[i] = static_cast<std::int32_t>(velocity_sets_.size());
           break;
       }
+    }
+    if (held == 0) {
+      // A condition that holds nothing would let the run go on as if it did (docs/case-format.md).
+      throw InputError(bc.where + ": boundary set '" + bc.set + "' selects no disk: " +
+                       (std::isfinite(nearest) ? "the nearest disk centre lies " + fmt(nearest) +
+                                                     " m from the edge, and a condition acts on disks whose centre "
+                                                     "lies within their radius (" + fmt(r_nearest) + " m) of it"
+                                               : std::string("the set has no disks")) +
+                       "; move the edge onto a lattice row ([mesh] origin) or change the radius");
     }
     if (bc.kind == BoundaryCondition::Kind::Velocity) velocity_sets_.push_back(std::move(vs));
     if (bc.kind == BoundaryCondition::Kind::Symmetry) setup_mirror_springs(bc, s);
@@ -419,6 +533,13 @@ void Solver::setup_loads() {
         ls.lx.push_back(0.0);
         ls.ly.push_back(0.0);
       }
+    }
+    if (ls.disks.empty()) {
+      throw InputError(load.where + ": the load selects no disk (" +
+                       (load.kind == Load::Kind::Pressure
+                            ? "boundary set '" + load.set + "'" + (load.window ? " within its window" : std::string())
+                            : std::string("none of the bodies it names has disks")) +
+                       ")");
     }
     for (std::int32_t i : ls.disks) loaded[i] = 1;
     loads_.push_back(std::move(ls));
@@ -684,8 +805,7 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
   const double dt = dt_info_.dt;
   apply_external_forces(time_);
   m.time = time_;
-  compute_internal_forces(m, step_ > 0 ? dt : 0.0);
-  if (m.any_breakable) broken_bonds_ += settle_broken_bonds(m);
+  broken_bonds_ += compute_internal_forces(m, step_ > 0 ? dt : 0.0);
   if (contacts_on_) contact_forces(step_ > 0 ? dt : 0.0);
   if (!case_.walls.empty()) wall_forces(step_ > 0 ? dt : 0.0);
   const StepSums s = update_velocities(time_);
@@ -712,19 +832,7 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
   }
   energy_.initial = initial_energy_;
 
-  // The leap-frog kinetic energy v(t-dt/2).v(t+dt/2) turns negative in an unstable mode
-  // (the half-step velocities alternate in sign): judge growth on the mean of the squares.
-  const double mech = s.kinetic_sq + (diagnostics ? energy_.elastic : 0.0);
-  // The velocities already reach t + dt/2: so does the input this is compared with.
-  const double limit = 10.0 * std::max(energy_.input() + std::max(s.ext_b, 0.0), 0.0) + 1e-30;
-  if (!std::isfinite(mech) || !std::isfinite(energy_.external_work) || mech > limit) {
-    blow_up_.step = step_;
-    blow_up_.time = time_;
-    blow_up_.reason = !std::isfinite(mech) ? "the state is no longer finite"
-                                           : "the kinetic and elastic energy (" + fmt(mech) +
-                                                 " J) exceed ten times the input (" + fmt(energy_.input()) + " J)";
-    return false;
-  }
+  if (!check_energy(s, diagnostics || step_ == 0)) return false;
   if (at_tn) at_tn(*this);
 
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());

@@ -460,7 +460,7 @@ TEST(CaseToml, UnknownKey) {
   EXPECT_EQ(parse_error(text),
             "case.toml:" + std::to_string(line_of(text, "saftey")) +
                 ": time: unknown key 'saftey' (allowed: end, dt, safety, allow_unstable, "
-                "mass_damping)");
+                "mass_damping, energy_warning, energy_limit)");
   // At the top level, in a time function, and a key of another boundary type.
   parts = Parts{};
   parts.extra = "\n[timee]\nend = 1.0\n";

@@ -95,7 +95,7 @@ Collision collide(double eta) {
   for (std::int64_t n = 0; n <= steps; ++n) {
     EXPECT_TRUE(s.advance(true, [&](const Solver& sv) {
       out.worst_energy_error = std::max(out.worst_energy_error, std::abs(sv.energy().relative_error()));
-    }));
+    })) << s.blow_up().reason;
   }
   const Model& md = s.model();
   out.restitution = (md.vx[1] - md.vx[0]) / (2 * v);

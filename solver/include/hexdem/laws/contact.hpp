@@ -19,12 +19,28 @@ namespace hexdem::laws {
 struct ContactState {
   double f_n = 0;  ///< normal force [N], tension positive, so always <= 0
   double f_s = 0;  ///< tangential force [N], same sign convention as a bond's f_s
+  double f_v = 0;  ///< the dashpot's part of f_n [N] (f_n + k_n delta), for the trapezoid work
 };
 
 /// What one update did.
 struct ContactStep {
   double friction_dissipation = 0;  ///< energy dissipated by friction in this update [J]
   double damping_power = 0;         ///< power absorbed by the dashpot [W], >= 0
+  /// Power of the dashpot for the leap-frog energy balance [W]: -(f_v,old + f_v,new) delta_dot / 2.
+  /// Central differences apply the force of update n over the half steps on both sides of
+  /// t_n, so the work that the kinetic energy v(t-dt/2).v(t+dt/2) sees at t_n is, per
+  /// velocity v(t-dt/2), half of the previous force and half of the new one: the trapezoid
+  /// rule, which makes the booked dashpot work and the kinetic energy agree step by step.
+  double damping_power_mid = 0;
+  /// Dashpot work of this update in the leap-frog balance [J].
+  [[nodiscard]] double damping_work(double dt) const noexcept { return damping_power_mid * dt; }
+  /// Friction dissipation for the leap-frog energy balance [J]: the trapezoid work of the
+  /// tangential force over the increment, (f_s,old + f_s,new) du_s / 2, less the change of the
+  /// tangential spring's energy. It differs from friction_dissipation (the exact slider) within
+  /// a step where sticking turns into sliding, and adds up with the kinetic energy of central
+  /// differences exactly; it can be negative where a force far above a cap that fell reverses
+  /// within one step.
+  double friction_dissipation_mid = 0;
   bool sliding = false;             ///< in contact and the Coulomb cap was active
 };
 
@@ -84,15 +100,19 @@ struct LinearContact {
   ContactStep update(ContactState& s, double delta, double delta_dot, double du_s,
                      double c_n) const noexcept {
     ContactStep step;
+    const double f_v_old = s.f_v;
     s.f_n = normal_force(delta, delta_dot, c_n);
     const double f_spring = -k_n * std::fmax(delta, 0.0);
-    step.damping_power = -(s.f_n - f_spring) * delta_dot;
+    s.f_v = s.f_n - f_spring;
+    step.damping_power = -s.f_v * delta_dot;
+    step.damping_power_mid = -0.5 * (f_v_old + s.f_v) * delta_dot;
     const double cap = -mu * s.f_n;
     const double f_held = std::fmax(-cap, std::fmin(s.f_s, cap));
     const double trial = f_held + k_s * du_s;
     const double f_new = std::fmax(-cap, std::fmin(trial, cap));
     step.friction_dissipation =
         (0.5 * (s.f_s * s.f_s - f_held * f_held) + cap * std::fabs(trial - f_new)) / k_s;
+    step.friction_dissipation_mid = 0.5 * (s.f_s + f_new) * du_s - 0.5 * (f_new * f_new - s.f_s * s.f_s) / k_s;
     step.sliding = delta > 0.0 && std::fabs(trial) > cap;
     s.f_s = f_new;
     return step;

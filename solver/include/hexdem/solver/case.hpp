@@ -74,6 +74,10 @@ struct TimeControl {
   double safety = 0.9;            ///< fraction of the critical step when dt is not given
   bool allow_unstable = false;    ///< accept a dt above the critical step (stability study)
   double mass_damping = 0;        ///< alpha of Eq. 18 [1/s]
+  /// Run health (docs/case-format.md): |energy error| above energy_warning warns once, above
+  /// energy_limit stops the run as a failure (exit 1). Fractions of the input energy [-].
+  double energy_warning = 0.01;
+  double energy_limit = 0.05;
 };
 
 struct OutputControl {
@@ -100,6 +104,9 @@ struct Wall {
 /// Contacts: broken bonds (state II) and disks of different bodies (physics.md section 8).
 struct ContactControl {
   double damping = 0;  ///< eta: fraction of critical damping of the normal dashpot, [0, 1)
+  /// Contact resolution: every contact is made no stiffer than omega dt = resolution for its
+  /// masses, omega = sqrt(k / m_eff) (docs/model.md, "Energy at contacts"), (0, 0.9].
+  double resolution = 0.25;
 };
 
 struct Case {

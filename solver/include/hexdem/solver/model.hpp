@@ -9,6 +9,7 @@
 /// kernels that turn displacements into forces.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "hexdem/laws/failure.hpp"
@@ -65,6 +66,15 @@ struct Model {
   // Local strain (physics.md section 4): per disk, the inverse of sum_k a_k a_k^T over the
   // intact bonds (a_k reference bond vectors), the strain eps, and the conjugate tensor S.
   std::vector<double> minv_xx, minv_xy, minv_yy;  ///< [1/m^2]; zero if singular
+  /// 1 if disk i has a local strain of its own in the initial lattice (two independent bonds
+  /// to such disks, found by elimination at build time), else 0. A disk without one (a lone
+  /// disk at a sharp tip of a rotated lattice, held by a single bond) enters no neighbour's
+  /// strain fit, and its bonds carry no local-strain shear: only their normal springs hold
+  /// it. Otherwise, with negative shear springs (nu > 1/4 in plane strain and axisymmetry),
+  /// its displacement could lower a neighbour's shear energy more than its one normal spring
+  /// raises it, and the lattice became indefinite (measured: the warhead's steel in free
+  /// flight at a lattice angle of 30 degrees blew up at step 190).
+  std::vector<std::uint8_t> strain_ok;
   std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
   std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
   /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
@@ -90,6 +100,9 @@ struct Model {
   bool any_plastic = false;              ///< some bond has a yield force
   bool any_breakable = false;            ///< some bond can break
   double contact_damping = 0;            ///< eta of the contact dashpot [-]
+  /// Contact stiffness cap per effective mass [1/s^2]: a contact's k_n and k_t are at most
+  /// m_eff contact_omega2 (Solver::setup_contact_resolution); infinite: no cap.
+  double contact_omega2 = std::numeric_limits<double>::infinity();
   double time = 0;                       ///< time of the current force evaluation [s]
   std::vector<double> f_yield;           ///< yield force sigma_y 2r w [N]; 0: elastic springs
   std::vector<double> kh_n, kh_s;        ///< hardening stiffnesses [N/m]
@@ -102,7 +115,13 @@ struct Model {
   std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
   // Cumulative energies per bond [J], summed only when reported (deterministic).
   std::vector<double> plastic_work, fracture_energy, contact_damping_work, friction_work;
-  std::vector<std::uint8_t> newly_broken;  ///< set by the force pass, cleared by the solver
+  /// 1 + FailureMode of a bond that the force pass found past its strength (it still acted
+  /// intact in that pass), 0 otherwise; settle_broken_bonds breaks it and clears the flag.
+  std::vector<std::uint8_t> newly_broken;
+  std::vector<double> f_damp;  ///< broken bonds: the dashpot's part of f_n at the last update [N]
+  /// Forces of the pass before settle_broken_bonds broke bonds [N, N m]: the break's
+  /// kinetic-energy term compares them with the forces after it (allocated if any_breakable).
+  std::vector<double> fx_intact, fy_intact, torque_intact;
 
   // Disk-level J2 plasticity (docs/model.md, "Plasticity per disk"): von Mises yield with
   // linear kinematic (Prager) hardening per disk. The springs stay elastic; each J2 disk adds
@@ -165,8 +184,10 @@ void reset_bond_history(Model& m);
 /// and the bond forces f_n, f_s. For the rotation model the shear force is incremented by
 /// k_s du_s with the increments dt*v, dt*omega of the last step (Eq. 2); the local-strain
 /// model takes it from the disks' strains. Deterministic: the result does not depend on the
-/// number of threads.
-void compute_internal_forces(Model& m, double dt);
+/// number of threads. Bonds found past their strength are broken at the end of the pass
+/// (settle_broken_bonds): the returned forces are those without them. Returns the number of
+/// bonds that broke.
+std::size_t compute_internal_forces(Model& m, double dt);
 
 /// Elastic energy stored in the springs, contacts and out-of-plane (hoop) term, including
 /// the locked-in energy of the hardening springs and of the J2 disks' back stress,
@@ -181,9 +202,13 @@ struct BondDissipation {
 };
 BondDissipation bond_dissipation(const Model& m);
 
-/// After bonds broke in a force pass: recomputes the local-strain matrices of their disks
-/// and clears the flags. Returns the number of bonds that broke.
-std::size_t settle_broken_bonds(Model& m);
+/// After a force pass that found bonds past their strength (newly_broken): breaks them (each
+/// becomes a contact, state II), recomputes the local-strain matrices and strains of their
+/// disks and the forces of the whole model, and books on each broken bond what the break
+/// released: the drop of the leap-frog energy at t_n, V(with) - V(without) +
+/// (dt/2) sum v(t-dt/2).(F(with) - F(without)) (docs/model.md, "Energy at a break").
+/// Returns the number of bonds that broke.
+std::size_t settle_broken_bonds(Model& m, double dt);
 
 /// Love-Weber stress of disk i [Pa]: sigma = 1/(A w) sum sym(x_c (x) f_c), in components
 /// xx, yy, xy, and zz (plane strain isotropic: nu(sxx+syy); axisymmetric: the hoop stress;

@@ -36,7 +36,13 @@ public:
   /// bodies' kinetic energies add up to its `kinetic`). Allocates nothing.
   void write_bodies(const Solver& solver);
 
+  /// Writes `<case>.status` (one line; replaced atomically): `running` while the run goes,
+  /// `completed` at its end, or `failed: <reason>` (docs/file-format.md). Analysis scripts
+  /// refuse a series whose status is not `completed`.
+  void write_status(const std::string& line);
+
   [[nodiscard]] const std::string& pvd_path() const { return pvd_path_; }
+  [[nodiscard]] const std::string& status_path() const { return status_path_; }
   [[nodiscard]] const std::string& energy_path() const { return energy_path_; }
   [[nodiscard]] const std::string& probes_path() const { return probes_path_; }
   [[nodiscard]] const std::string& bodies_path() const { return bodies_path_; }
@@ -57,7 +63,7 @@ private:
     std::vector<std::string> fields;
   };
   std::string dir_, frame_dir_, name_;
-  std::string pvd_path_, energy_path_, probes_path_, bodies_path_, last_frame_;
+  std::string pvd_path_, energy_path_, probes_path_, bodies_path_, status_path_, last_frame_;
   std::vector<io::PvdEntry> pvd_;
   std::ofstream energy_, probes_, bodies_;
   std::vector<ProbePoint> probe_points_;

@@ -4,6 +4,8 @@
 /// boundary conditions, loads, the stable time step (physics.md section 5) and the energy
 /// balance (section 6, Eq. 25). SI units.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -30,14 +32,20 @@ struct EnergyBalance {
   double contact_damping = 0;  ///< energy dissipated by contact dashpots
   double friction = 0;         ///< energy dissipated by contact friction
   double initial = 0;          ///< kinetic + elastic energy at t = 0 (e.g. a projectile)
+  /// The model's own energy scale [J]: the elastic energy of every body at a uniform strain
+  /// of 1e-9. Errors are measured against max(|E_in|, scale), so a run with no input energy
+  /// is judged against it instead of against round-off.
+  double scale = 0;
   /// Eq. 25: input E_in = initial + external work; total E_t = kinetic + elastic + every
   /// dissipated energy.
   [[nodiscard]] double input() const { return initial + external_work; }
   [[nodiscard]] double total() const {
     return kinetic + elastic + damping + plastic + fracture + contact_damping + friction;
   }
+  /// Err = (E_in - E_t) / max(|E_in|, scale).
   [[nodiscard]] double relative_error() const {
-    return input() != 0 ? (input() - total()) / input() : 0.0;
+    const double s = std::max(std::abs(input()), scale);
+    return s > 0 ? (input() - total()) / s : 0.0;
   }
 };
 
@@ -51,9 +59,12 @@ struct TimeStepInfo {
   bool user_dt = false;
 };
 
-/// Raised by Solver::advance when the state is no longer finite or the energy has grown far
-/// beyond the input: the numerical blow-up of an unstable step.
+/// Why Solver::advance stopped a run: a numerical blow-up (the state is no longer finite, the
+/// kinetic and elastic energy have grown far beyond the input, or the elastic energy is
+/// negative) or an energy balance error beyond [time] energy_limit.
 struct BlowUp {
+  enum class Kind { None, BlowUp, EnergyLimit };
+  Kind kind = Kind::None;
   std::int64_t step = 0;
   double time = 0;
   std::string reason;
@@ -70,8 +81,11 @@ public:
   /// One step from t_n to t_{n+1}: forces at t_n, velocities to t_{n+1/2}, then (if given)
   /// `at_tn(*this)` with the state at t_n complete (positions u_n, mid-step velocities, bond
   /// forces, energy balance if `diagnostics`), then positions to t_{n+1}.
-  /// Returns false, with blow_up() set, when the step found the state non-finite or the
-  /// energy grown beyond ten times the input; the state is then not to be written.
+  /// With `diagnostics` the energy balance is checked (run health): |Err| above
+  /// [time] energy_warning records energy_warning() once; above energy_limit, a negative
+  /// elastic energy, a non-finite state or an energy beyond ten times the input the step
+  /// returns false with blow_up() set, before `at_tn`: the state is then not to be written,
+  /// and every state that was handed to `at_tn` passed these checks.
   bool advance(bool diagnostics, const std::function<void(const Solver&)>& at_tn = {});
 
   [[nodiscard]] const Model& model() const { return model_; }
@@ -84,6 +98,11 @@ public:
   [[nodiscard]] double dt() const { return dt_info_.dt; }
   [[nodiscard]] const EnergyBalance& energy() const { return energy_; }
   [[nodiscard]] const BlowUp& blow_up() const { return blow_up_; }
+  /// Largest |Err| of the checked steps so far.
+  [[nodiscard]] double max_energy_error() const { return max_energy_error_; }
+  /// The warning of the first checked step whose |Err| passed [time] energy_warning (one
+  /// line, no prefix), or empty.
+  [[nodiscard]] const std::string& energy_warning() const { return energy_warning_; }
   /// Bonds broken so far.
   [[nodiscard]] std::size_t broken_bonds() const { return broken_bonds_; }
 
@@ -91,6 +110,7 @@ public:
   struct Contact {
     std::int32_t i = 0, j = 0;  ///< disks, i < j
     double f_n = 0, f_s = 0;    ///< normal (compression negative) and tangential force [N]
+    double f_v = 0;             ///< the dashpot's part of f_n [N] (trapezoid work)
   };
   /// Contact pairs found by the broad phase (forces zero while apart), sorted by (i, j).
   [[nodiscard]] const std::vector<Contact>& contacts() const { return contacts_; }
@@ -146,6 +166,12 @@ private:
   [[nodiscard]] double contact_energy() const;
   [[nodiscard]] double contact_stiffness_cap(double m_eff) const;
   void choose_time_step();
+  /// Sets model_.contact_omega2: the contact stiffness cap of every contact.
+  void setup_contact_resolution();
+  /// Sets energy_.scale (see EnergyBalance::scale).
+  void setup_energy_scale();
+  /// Run health at a checked step: false (blow_up_ set) for a failure.
+  bool check_energy(const StepSums& s, bool diagnostics);
   void apply_external_forces(double t);
   StepSums update_velocities(double t);
 
@@ -163,6 +189,10 @@ private:
   TimeStepInfo dt_info_;
   EnergyBalance energy_;
   BlowUp blow_up_;
+  EnergyBalance last_checked_;  ///< the ledger at the last checked step that passed
+  double last_checked_time_ = 0;
+  double max_energy_error_ = 0;
+  std::string energy_warning_;
   double time_ = 0;
   std::int64_t step_ = 0;
   double p_max_ = 0;
@@ -178,7 +208,7 @@ private:
   std::vector<double> body_kn_, body_kt_, body_mu_;  ///< per body, per unit thickness
   double contact_damping_work_ = 0, contact_friction_work_ = 0;
   double detection_seconds_ = 0;
-  std::vector<std::vector<double>> wall_fn_, wall_fs_;  ///< per wall, per disk [N]
+  std::vector<std::vector<double>> wall_fn_, wall_fs_, wall_fv_;  ///< per wall, per disk [N]
 };
 
 /// Meshes a case's outline (per-body radius, angle and origin already resolved).

@@ -1,0 +1,158 @@
+// Energy balance of impacts with breaking bonds and contacts (docs/validation.md, "Energy
+// balance of fracture and contact runs"): a family of impacts of a disk (a sphere in
+// axisymmetry) on a concrete plate on a fixed base, over geometry, impactor material, impact
+// speed, contact damping, target strengths and lattice angle, at a reduced size. Every member
+// must keep max |Err| <= 1 % at the default time step. Each member's error is printed, with
+// the smallest fracture energy that one of its broken bonds booked: with the brittle bonds of
+// the local-strain model this is still negative in some members (a break re-fits the strains
+// of its two disks, which can raise the energy of their other bonds; docs/model.md, "Energy
+// at a break"), and the count is reported, not asserted.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "hexdem/solver/case_toml.hpp"
+#include "hexdem/solver/solver.hpp"
+
+namespace {
+
+using namespace hexdem;
+using namespace hexdem::solver;
+
+struct Member {
+  std::string geometry;  // plane-stress, plane-strain, axisymmetric
+  bool steel = true;     // impactor: steel (elastic) or concrete (with the target's strengths)
+  double speed = 20;     // m/s
+  double damping = 0.1;  // contact eta
+  bool strengths = true;
+  double angle = 0;      // lattice angle of both bodies [deg]
+  double radius_mm = 1.0;
+  double half_width_mm = 20, depth_mm = 6 * 1.7320508075688772935, impactor_mm = 3;  // depth: 6 rows
+};
+
+std::string concrete(bool strengths) {
+  std::string s = "density = 2400.0\nE = 30e9\nnu = 0.2\nfriction = 0.5\n";
+  if (strengths)
+    s += "tensile_strength = 3e6\ncompressive_strength = 30e6\ncohesion = 6e6\nfriction_angle = 30.0\n";
+  return s;
+}
+
+std::string case_text(const Member& m) {
+  const bool axi = m.geometry == "axisymmetric";
+  const double gap = 0.2;  // mm between the impactor and the plate's face
+  const double R = m.impactor_mm, y0 = R + gap;
+  std::ostringstream s;
+  s.precision(10);
+  s << "units = \"mm\"\n[case]\nname = \"family\"\ngeometry = \"" << m.geometry << "\"\n";
+  if (!axi) s << "thickness = 0.01\n";  // m
+  s << "[mesh]\nradius = " << m.radius_mm * 1e-3 << "\nangle = " << m.angle << "\n";
+  s << "[[body]]\nname = \"plate\"\nmaterial = 1\n  [[body.shape]]\n  type = \"rectangle\"\n";
+  if (axi) {
+    s << "  min = [0.0, " << -m.depth_mm << "]\n  max = [" << m.half_width_mm << ", 0.0]\n"
+      << "  boundary = { bottom = \"base\", right = \"far\", top = \"face\", left = \"axis\" }\n";
+  } else {
+    s << "  min = [" << -m.half_width_mm << ", " << -m.depth_mm << "]\n  max = [" << m.half_width_mm << ", 0.0]\n"
+      << "  boundary = { bottom = \"base\", right = \"far\", top = \"face\", left = \"far\" }\n";
+  }
+  s << "[[body]]\nname = \"impactor\"\nmaterial = 2\n  [[body.shape]]\n";
+  if (axi) {
+    // A half disk in the meridian plane: a sphere.
+    s << "  type = \"polygon\"\n  points = [";
+    const int n = 24;
+    for (int k = 0; k <= n; ++k) {
+      const double a = -M_PI / 2 + M_PI * k / n;
+      s << (k ? ", " : "") << "[" << R * std::cos(a) << ", " << y0 + R * std::sin(a) << "]";
+    }
+    // The arc is the skin; the closing edge lies on the axis.
+    s << "]\n  boundary = [";
+    for (int k = 0; k < n; ++k) s << "\"skin\", ";
+    s << "\"axis\"]\n";
+  } else {
+    s << "  type = \"circle\"\n  center = [0.0, " << y0 << "]\n  radius = " << R << "\n  boundary = \"skin\"\n";
+  }
+  s << "[[material]]\nid = 1\nname = \"concrete\"\n" << concrete(m.strengths);
+  s << "[[material]]\nid = 2\n";
+  if (m.steel)
+    s << "name = \"steel\"\ndensity = 7850.0\nE = 210e9\nnu = 0.3\nfriction = 0.3\n";
+  else
+    s << "name = \"concrete impactor\"\n" << concrete(m.strengths);
+  s << "[[boundary]]\nset = \"base\"\ntype = \"fixed\"\n";
+  if (axi) s << "[[boundary]]\nset = \"axis\"\ntype = \"symmetry\"\ncomponent = \"x\"\n";
+  s << "[[initial_velocity]]\nbody = \"impactor\"\nvelocity = [0.0, " << -m.speed << "]\n";
+  s << "[contact]\ndamping = " << m.damping << "\n";
+  // Long enough for the impact, the rebound and the waves that follow.
+  const double end_us = gap * 1e-3 / m.speed * 1e6 + 40.0;
+  s << "[time]\nend = " << end_us * 1e-6 << "\nenergy_limit = 1e9\n";
+  return s.str();
+}
+
+struct Outcome {
+  double max_error = 0;
+  double min_fracture = 0;  // smallest fracture energy booked by a broken bond [J]
+  std::size_t broken = 0;
+  bool finished = false;
+};
+
+Outcome run(const Member& m) {
+  const Case c = parse_case(case_text(m), "family.toml", ".");
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver solver(c, lattice);
+  Outcome o;
+  const std::int64_t steps = solver.total_steps();
+  for (std::int64_t n = 0; n <= steps; ++n) {
+    if (!solver.advance(true)) return o;
+    o.max_error = std::max(o.max_error, std::abs(solver.energy().relative_error()));
+  }
+  o.finished = true;
+  o.broken = solver.broken_bonds();
+  const Model& model = solver.model();
+  for (std::size_t b = 0; b < model.num_bonds(); ++b)
+    if (!model.bond_intact(b)) o.min_fracture = std::min(o.min_fracture, model.fracture_energy[b]);
+  return o;
+}
+
+void run_family(const std::string& geometry, bool steel) {
+  int failures = 0, members = 0, negative = 0;
+  double worst = 0;
+  for (double speed : {5.0, 20.0, 50.0, 200.0})
+    for (double damping : {0.0, 0.1, 0.5})
+      for (bool strengths : {true, false})
+        for (double angle : {0.0, 10.0, 20.0, 30.0}) {
+          Member m;
+          m.geometry = geometry;
+          m.steel = steel;
+          m.speed = speed;
+          m.damping = damping;
+          m.strengths = strengths;
+          m.angle = angle;
+          const Outcome o = run(m);
+          ++members;
+          worst = std::max(worst, o.max_error);
+          const bool ok = o.finished && o.max_error <= 0.01;
+          failures += ok ? 0 : 1;
+          negative += o.min_fracture < 0 ? 1 : 0;
+          std::printf("%-13s %-8s v %5.0f m/s  eta %.1f  %-12s angle %4.0f:  max |Err| %.3e  broken %5zu  "
+                      "min fracture %+.2e J%s\n",
+                      geometry.c_str(), steel ? "steel" : "concrete", speed, damping,
+                      strengths ? "strengths" : "elastic", angle, o.max_error, o.broken, o.min_fracture,
+                      ok ? "" : (o.finished ? "  FAIL" : "  FAIL (stopped)"));
+          EXPECT_TRUE(o.finished) << case_text(m);
+          EXPECT_LE(o.max_error, 0.01) << case_text(m);
+        }
+  std::printf("%s, %s impactor: %d members, %d failed, worst max |Err| %.3e, %d with a bond that booked a "
+              "negative fracture energy\n",
+              geometry.c_str(), steel ? "steel" : "concrete", members, failures, worst, negative);
+}
+
+TEST(EnergyFamily, PlaneStressSteel) { run_family("plane-stress", true); }
+TEST(EnergyFamily, PlaneStressConcrete) { run_family("plane-stress", false); }
+TEST(EnergyFamily, PlaneStrainSteel) { run_family("plane-strain", true); }
+TEST(EnergyFamily, PlaneStrainConcrete) { run_family("plane-strain", false); }
+TEST(EnergyFamily, AxisymmetricSteel) { run_family("axisymmetric", true); }
+TEST(EnergyFamily, AxisymmetricConcrete) { run_family("axisymmetric", false); }
+
+}  // namespace
