@@ -155,7 +155,7 @@ struct CheckpointAccess {
     v.rebuilt("body_mu", s.body_mu_);
     v.state("contact_damping_work", s.contact_damping_work_);
     v.state("contact_friction_work", s.contact_friction_work_);
-    v.state("detection_seconds", s.detection_seconds_);
+    v.rebuilt("detection_seconds", s.detection_seconds_);  // wall time of this process, not state
     v.state("wall_fn", s.wall_fn_);
     v.state("wall_fs", s.wall_fs_);
   }
