@@ -40,6 +40,7 @@ struct SweepArgs {
   int jobs = 1;
   int threads = 0;
   bool dry_run = false;
+  bool collect = false;
   bool quiet = false;
 };
 
@@ -295,7 +296,8 @@ std::map<std::string, std::string> read_summary(const fs::path& file) {
 int run_sweep(const SweepArgs& a) {
   const Study study = read_study(a.study);
   const std::vector<std::vector<std::string>> sets = member_sets(study);
-  const std::string out_dir = a.out.empty() ? study.name + "-study" : a.out;
+  // Absolute, so that the written command lines run from any folder.
+  const std::string out_dir = fs::absolute(a.out.empty() ? study.name + "-study" : a.out).lexically_normal().string();
 
   // Every member's case is read (with its overrides) before anything runs: a bad value
   // stops the study with the case reader's message.
@@ -336,7 +338,12 @@ int run_sweep(const SweepArgs& a) {
     for (const std::string& s : study.fixed) m.argv.insert(m.argv.end(), {"--set", s});
     for (const std::string& s : m.sets) m.argv.insert(m.argv.end(), {"--set", s});
     m.argv.insert(m.argv.end(), {"-o", m.folder, "-q", "-j", std::to_string(threads)});
-    for (const std::string& arg : m.argv) m.command += (m.command.empty() ? "" : " ") + shell_quote(arg);
+    // The line does what the sweep does for the member: its folder, the run, its log and its
+    // exit code, so that `sh -c LINE` (a job array's task) leaves what --collect reads.
+    std::string run_line;
+    for (const std::string& arg : m.argv) run_line += (run_line.empty() ? "" : " ") + shell_quote(arg);
+    const std::string q = shell_quote(m.folder);
+    m.command = "mkdir -p " + q + " && " + run_line + " > " + q + "/run.log 2>&1; echo $? > " + q + "/exit_code";
     commands += m.command + "\n";
   }
   std::error_code ec;
@@ -348,12 +355,21 @@ int run_sweep(const SweepArgs& a) {
     std::fputs(commands.c_str(), stdout);
     return kExitOk;
   }
-  if (!a.quiet)
+  if (!a.quiet && !a.collect)
     std::printf("hexdem sweep: %s: %zu members of %s, %d at a time -> %s\n", a.study.c_str(), members.size(),
                 study.case_file.c_str(), a.jobs, out_dir.c_str());
 
   std::map<pid_t, std::size_t> running;
   std::size_t next = 0, failed = 0;
+  if (a.collect) {
+    // The members ran elsewhere (a job array): read their exit codes, -1 if not run.
+    for (Member& m : members) {
+      std::ifstream in(fs::path(m.folder) / "exit_code");
+      if (!(in >> m.exit_code)) m.exit_code = -1;
+      failed += m.exit_code != 0;
+    }
+    next = members.size();
+  }
   while (next < members.size() || !running.empty()) {
     while (next < members.size() && running.size() < static_cast<std::size_t>(a.jobs)) {
       Member& m = members[next];
@@ -431,6 +447,9 @@ Subcommand add_sweep_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--dry-run", args->dry_run,
                 "Write and print the members' command lines (one per line, for a job array) without running them");
+  cmd->add_flag("--collect", args->collect,
+                "Run nothing: build the table from the member folders (members run by a job array; "
+                "a member without exit_code counts as not run, -1)");
   cmd->add_flag("-q,--quiet", args->quiet, "Print nothing but errors");
   return {cmd, [args] { return run_sweep(*args); }};
 }

@@ -471,6 +471,22 @@ count = 2
   const int code = std::system(("cd " + d.string() + " && sh -c \"$(sed -n 3p out/commands.txt)\"").c_str());
   EXPECT_EQ(code, 0);
   EXPECT_EQ(slurp(d / "out" / "member-003" / "plate.summary.csv"), slurp(d / "out" / "first-003" / "plate.summary.csv"));
+  EXPECT_EQ(slurp(d / "out" / "member-003" / "exit_code"), "0\n") << "the line records its exit code";
+  // --collect builds the same table from the folders without running anything.
+  const std::string table = slurp(d / "out" / "loads.csv");
+  fs::remove(d / "out" / "loads.csv");
+  const Result c = run_hexdem(d, "sweep " + study.string() + " --collect -q -o " + (d / "out").string());
+  EXPECT_EQ(c.code, 0) << c.err;
+  EXPECT_EQ(slurp(d / "out" / "loads.csv"), table);
+}
+
+TEST(Sweep, DocumentedExampleStudyIsValid) {
+  const fs::path d = test_dir("cli_workflow", true);
+  const std::string study = std::string(HEXDEM_SOURCE_DIR) + "/cases/narrow_plate/study.toml";
+  const Result r = run_hexdem(d, "sweep " + study + " --dry-run -o " + (d / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(count_lines(r.out), 6) << r.out;
+  EXPECT_NE(r.out.find("--set load.0.p0=1e+07 --set load.0.function.t1=1e-04"), std::string::npos) << r.out;
 }
 
 TEST(Sweep, ListModeDryRunAndFailingMembers) {
@@ -494,6 +510,11 @@ values = ["small", "large"]
   EXPECT_NE(r.out.find("--set time.dt=1e-06 --set 'case.name=\"large\"'"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(d / "dry" / "member-001")) << "a dry run runs nothing";
   EXPECT_EQ(slurp(d / "dry" / "commands.txt"), r.out);
+  // Nothing ran: --collect finds no member (exit code -1 each) and reports failure.
+  r = run_hexdem(d, "sweep " + study.string() + " --collect -q -o " + (d / "dry").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(slurp(d / "dry" / "steps.csv").find("\n2,1e-06,\"\"\"large\"\"\",-1,,"), std::string::npos)
+      << slurp(d / "dry" / "steps.csv");
 
   r = run_hexdem(d, "sweep " + study.string() + " --jobs 2 -q -o " + (d / "out").string());
   EXPECT_EQ(r.code, 1) << "a member failed: " << r.err;
