@@ -77,7 +77,7 @@ Subcommand add_check_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "check", "Read, mesh and set up a case without running it; print disks per body and set, time step, stability");
   cmd->add_option("case", args->case_file, "Case file (.toml)")->required();
-  cmd->add_option("--set", args->sets, "Override a case value: KEY=VALUE (as for run)")->expected(1)->take_all();
+  cmd->add_option("--set", args->sets, "Override a case value: KEY=VALUE (as for run)")->allow_extra_args(false)->take_all();
   return {cmd, [args] { return run_check(*args); }};
 }
 

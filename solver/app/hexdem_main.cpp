@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
   run_cmd->add_option("--set", run.sets, "Override a case value: KEY=VALUE, e.g. time.end=2e-4 or material.1.E=32e9")
-      ->expected(1)
+      ->allow_extra_args(false)
       ->take_all();
   run_cmd->add_option("--restart", run.restart, "Continue from a checkpoint <case>.chk ([output] checkpoint_interval)");
   const hexdem::app::Subcommand check = hexdem::app::add_check_command(app);

@@ -352,6 +352,20 @@ TEST(Overrides, ValuesReachTheRunAndTheEffectiveCase) {
   EXPECT_EQ(slurp(d / "a" / "plate.energy.csv"), slurp(d / "e" / "plate.energy.csv"));
 }
 
+TEST(Overrides, EachSetTakesOneValueAnywhereOnTheLine) {
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path c = write(d, "plate.toml", plate_case("plane-stress"));
+  const Result r = run_hexdem(d, "run --set time.end=3e-6 --set output.checkpoint_interval=0 " + c.string() + " -q -o " +
+                                     (d / "a").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string eff = slurp(d / "a" / "plate.case.toml");
+  EXPECT_NE(eff.find("end = 3.0000000000000001e-06"), std::string::npos) << eff;
+  EXPECT_NE(eff.find("checkpoint_interval = 0\n"), std::string::npos) << eff;
+  const Result chk = run_hexdem(d, "check --set time.end=3e-6 " + c.string() + " --set time.dt=1e-7");
+  ASSERT_EQ(chk.code, 0) << chk.err;
+  EXPECT_NE(chk.out.find("30 steps to t = 3e-06 s"), std::string::npos) << chk.out;
+}
+
 TEST(Overrides, BadOverridesGiveOneLineAndNoOutput) {
   const fs::path d = test_dir("cli_workflow", true);
   const fs::path c = write(d, "plate.toml", plate_case("plane-stress"));
