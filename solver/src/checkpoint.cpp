@@ -264,6 +264,9 @@ void save_run(Writer& w, const RunState& run) {
   w.state("run.energy_bytes", run.energy_bytes);
   w.state("run.probes_bytes", run.probes_bytes);
   w.state("run.bodies_bytes", run.bodies_bytes);
+  w.state("run.energy_hash", run.energy_hash);
+  w.state("run.probes_hash", run.probes_hash);
+  w.state("run.bodies_hash", run.bodies_hash);
 }
 
 // ---- reading ------------------------------------------------------------------------
@@ -360,6 +363,9 @@ void load_run(Reader& r, RunState& run) {
   r.state("run.energy_bytes", run.energy_bytes);
   r.state("run.probes_bytes", run.probes_bytes);
   r.state("run.bodies_bytes", run.bodies_bytes);
+  r.state("run.energy_hash", run.energy_hash);
+  r.state("run.probes_hash", run.probes_hash);
+  r.state("run.bodies_hash", run.bodies_hash);
 }
 
 // ---- coverage -----------------------------------------------------------------------

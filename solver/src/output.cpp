@@ -178,13 +178,31 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir, const RunStat
   open(solver, &resume);
 }
 
-void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t bytes) {
+/// FNV-1a hash of the first `bytes` of a file (fewer if it is shorter).
+static std::uint64_t prefix_hash(const std::string& path, std::uint64_t bytes) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t h = fnv1a(nullptr, 0);
+  std::vector<char> buf(1 << 16);
+  while (bytes > 0 && in) {
+    in.read(buf.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(bytes, buf.size())));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    h = fnv1a(buf.data(), got, h);
+    bytes -= got;
+  }
+  return h;
+}
+
+void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash) {
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec || size < bytes)
     throw InputError(path + ": " + (ec ? std::string("missing") : std::to_string(size) + " bytes") +
                      ", the checkpoint was written after " + std::to_string(bytes) +
                      " bytes of it (restart in the output folder the checkpoint was written for)");
+  if (prefix_hash(path, bytes) != hash)
+    throw InputError(path + ": its first " + std::to_string(bytes) +
+                     " bytes are not the ones the checkpoint's run wrote (another run has written this folder since)");
   fs::resize_file(path, bytes, ec);
   if (ec) throw std::runtime_error(path + ": cannot truncate for the restart (" + ec.message() + ")");
 }
@@ -204,6 +222,9 @@ void RunOutput::save_state(RunState& state) {
   state.energy_bytes = bytes(energy_, energy_path_);
   state.probes_bytes = bytes(probes_, probes_path_);
   state.bodies_bytes = bytes(bodies_, bodies_path_);
+  state.energy_hash = prefix_hash(energy_path_, state.energy_bytes);
+  state.probes_hash = prefix_hash(probes_path_, state.probes_bytes);
+  state.bodies_hash = prefix_hash(bodies_path_, state.bodies_bytes);
 }
 
 void RunOutput::open(const Solver& solver, const RunState* resume) {
@@ -237,9 +258,10 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
         throw InputError((fs::path(dir_) / e.file).string() +
                          ": missing, the checkpoint lists it (restart in the output folder the checkpoint was "
                          "written for)");
-    truncate_for_restart(energy_path_, resume->energy_bytes);
-    if (!c.probes.empty()) truncate_for_restart(probes_path_, resume->probes_bytes);
-    if (!c.output.body_history.empty()) truncate_for_restart(bodies_path_, resume->bodies_bytes);
+    truncate_for_restart(energy_path_, resume->energy_bytes, resume->energy_hash);
+    if (!c.probes.empty()) truncate_for_restart(probes_path_, resume->probes_bytes, resume->probes_hash);
+    if (!c.output.body_history.empty())
+      truncate_for_restart(bodies_path_, resume->bodies_bytes, resume->bodies_hash);
     pvd_ = resume->frames;
     last_frame_ = resume->last_frame;
     io::write_pvd(pvd_path_, pvd_);

@@ -310,6 +310,39 @@ TEST(Restart, BadCheckpointsAreRefused) {
   EXPECT_NE(r.err.find("nothing.chk: cannot open checkpoint"), std::string::npos) << r.err;
 }
 
+TEST(Restart, AFailedCheckpointWriteLeavesThePreviousCheckpoint) {
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path c = write(d, "plate.toml", plate_case("plane-stress"));
+  Result r = run_hexdem(d, "run " + c.string() + " -o " + (d / "a").string() + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string before = slurp(d / "a" / "plate.chk");
+  // The temporary file cannot be created (a folder has its name): the next checkpoint fails
+  // before anything touches plate.chk.
+  fs::create_directory(d / "a" / "plate.chk.tmp");
+  r = run_hexdem(d, "run " + c.string() + " -o " + (d / "a").string() + " -q --set load.0.p0=3e6");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("plate.chk.tmp: cannot write checkpoint"), std::string::npos) << r.err;
+  EXPECT_TRUE(slurp(d / "a" / "plate.chk") == before) << "the previous checkpoint was changed";
+  fs::remove(d / "a" / "plate.chk.tmp");
+  // Another complete run (no checkpoints) rewrites the CSVs: the old checkpoint does not
+  // continue them.
+  r = run_hexdem(d, "run " + c.string() + " -o " + (d / "a").string() +
+                        " -q --set load.0.p0=3e6 --set output.checkpoint_interval=0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(slurp(d / "a" / "plate.chk") == before);
+  r = run_hexdem(d, "run " + c.string() + " -q --restart " + (d / "a" / "plate.chk").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("plate.energy.csv: its first 757 bytes are not the ones the checkpoint's run wrote"),
+            std::string::npos) << r.err;
+  // ... and it still restarts (its own case, the output folder of its run copied back).
+  r = run_hexdem(d, "run " + c.string() + " -o " + (d / "b").string() + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  fs::copy_file(d / "a" / "plate.chk", d / "b" / "plate.chk", fs::copy_options::overwrite_existing);
+  r = run_hexdem(d, "run " + c.string() + " -q --restart " + (d / "b" / "plate.chk").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
 TEST(Restart, BadCheckpointIntervalIsRefused) {
   const fs::path d = test_dir("cli_workflow", true);
   const fs::path c = write(d, "plate.toml", plate_case("plane-stress"));

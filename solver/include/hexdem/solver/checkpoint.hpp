@@ -40,6 +40,8 @@ struct RunState {
   /// Bytes of the energy, probe and body CSVs when the checkpoint was written: a restart
   /// truncates them there and appends.
   std::uint64_t energy_bytes = 0, probes_bytes = 0, bodies_bytes = 0;
+  /// FNV-1a hashes of those first bytes: a restart refuses CSVs another run has rewritten.
+  std::uint64_t energy_hash = 0, probes_hash = 0, bodies_hash = 0;
 };
 
 /// FNV-1a 64-bit hash of bytes (also the file's checksum).

@@ -61,8 +61,9 @@ public:
 
 private:
   void open(const Solver& solver, const RunState* resume);
-  /// Restart: checks that `path` holds at least `bytes` and cuts it there.
-  static void truncate_for_restart(const std::string& path, std::uint64_t bytes);
+  /// Restart: checks that `path` holds at least `bytes` whose hash is `hash` (the run's own
+  /// rows) and cuts it there.
+  static void truncate_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash);
 
   struct ProbePoint {
     std::size_t disk;
