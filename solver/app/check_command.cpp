@@ -63,10 +63,10 @@ int run_check(const CheckArgs& a) {
   if (c.output.checkpoint_interval > 0)
     std::printf("  checkpoints every %.6g s\n", c.output.checkpoint_interval);
   for (const std::string& line : s.plasticity_report()) std::printf("  %s\n", line.c_str());
-  std::size_t warnings = 0;
-  for (const std::string& w : c.warnings) std::printf("  warning: %s\n", w.c_str()), ++warnings;
-  for (const std::string& w : s.warnings()) std::printf("  warning: %s\n", w.c_str()), ++warnings;
-  std::printf("  %zu warning%s\n", warnings, warnings == 1 ? "" : "s");
+  std::vector<std::string> warnings = c.warnings;  // the reader's, then the set-up's
+  warnings.insert(warnings.end(), s.warnings().begin(), s.warnings().end());
+  for (const std::string& w : warnings) std::printf("  warning: %s\n", w.c_str());
+  std::printf("  %zu warning%s\n", warnings.size(), warnings.size() == 1 ? "" : "s");
   return kExitOk;
 }
 
