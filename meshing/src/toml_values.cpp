@@ -53,7 +53,11 @@ std::string read_text_file(const std::string& path) {
 void TomlValues::fail(const toml::source_region& at, const std::string& path,
                       const std::string& problem) const {
   std::string message = source_;
-  if (at.begin.line > 0) message += ":" + std::to_string(at.begin.line);
+  if (at.path != nullptr && at.path->rfind("--set ", 0) == 0) {
+    message += ": " + *at.path;  // a value given on the command line (case --set overrides)
+  } else if (at.begin.line > 0) {
+    message += ":" + std::to_string(at.begin.line);
+  }
   message += ": ";
   if (!path.empty()) message += path + ": ";
   throw InputError(message + problem);

@@ -1,4 +1,4 @@
-// hexdem: the command-line program. Subcommands: mesh, run, post.
+// hexdem: the command-line program. Subcommands: mesh, run, check, sweep, post.
 // Exit codes: 0 success, 1 internal or numerical failure, 2 bad input (one-line message).
 #include <CLI/CLI.hpp>
 #include <omp.h>
@@ -23,6 +23,7 @@
 #include "hexdem/solver/case_toml.hpp"
 #include "hexdem/solver/output.hpp"
 #include "hexdem/version.hpp"
+#include "subcommands.hpp"
 
 namespace {
 
@@ -116,15 +117,18 @@ struct RunArgs {
   std::string out_dir;
   int threads = 0;
   bool quiet = false;
+  std::vector<std::string> sets;  ///< --set KEY=VALUE overrides
+  std::string restart;            ///< --restart FILE.chk
 };
 
 int run_run(const RunArgs& a) {
-  const solver::Case c = solver::read_case(a.case_file);
+  const solver::Case c = solver::read_case(a.case_file, a.sets);
   for (const std::string& w : c.warnings) std::cerr << "hexdem: warning: " << w << "\n";
   solver::RunOptions ro;
   ro.out_dir = a.out_dir;
   ro.threads = a.threads;
   ro.quiet = a.quiet;
+  ro.restart = a.restart;
   ro.progress = !a.quiet && isatty(STDERR_FILENO);
   return solver::run_case(c, ro);
 }
@@ -158,6 +162,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-o,--out", run.out_dir, "Output folder (default: <case name>-output)");
   run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
+  run_cmd->add_option("--set", run.sets, "Override a case value: KEY=VALUE, e.g. time.end=2e-4 or material.1.E=32e9")
+      ->allow_extra_args(false)
+      ->take_all();
+  run_cmd->add_option("--restart", run.restart, "Continue from a checkpoint <case>.chk ([output] checkpoint_interval)");
+  const hexdem::app::Subcommand check = hexdem::app::add_check_command(app);
+  const hexdem::app::Subcommand sweep = hexdem::app::add_sweep_command(app);
 
   const hexdem::post::PostCommand post = hexdem::post::add_post_command(app);
 
@@ -171,6 +181,8 @@ int main(int argc, char** argv) {
   try {
     if (*mesh_cmd) return run_mesh(mesh, *mesh_cmd);
     if (*run_cmd) return run_run(run);
+    if (*check.cmd) return check.run();
+    if (*sweep.cmd) return sweep.run();
     if (*post.cmd) return post.run();
   } catch (const hexdem::InputError& e) {
     std::cerr << "hexdem: error: " << e.what() << "\n";

@@ -15,6 +15,7 @@
 #include <cctype>
 #include <charconv>
 #include <climits>
+#include <cstdio>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -103,7 +104,9 @@ class Reader : public meshing::TomlValues {
   using TomlValues::text;
   /// "FILE:LINE: PATH" for messages issued after reading (Case::where fields).
   std::string where(const toml::node& at, const std::string& path) const {
-    return source_ + ":" + std::to_string(at.source().begin.line) + ": " + path;
+    const toml::source_region& r = at.source();
+    if (r.path != nullptr && r.path->rfind("--set ", 0) == 0) return source_ + ": " + *r.path + ": " + path;
+    return source_ + ":" + std::to_string(r.begin.line) + ": " + path;
   }
 
   double non_negative(const toml::node& node, const std::string& path) const;
@@ -398,7 +401,7 @@ constexpr std::array<Key<TimeControl>, 7> kTimeKeys{{
      }},
 }};
 
-constexpr std::array<Key<OutputControl>, 5> kOutputKeys{{
+constexpr std::array<Key<OutputControl>, 6> kOutputKeys{{
     {"interval", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.interval = in.non_negative(v, p);
@@ -415,6 +418,10 @@ constexpr std::array<Key<OutputControl>, 5> kOutputKeys{{
      }},
     {"body_history", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) { o.body_history = in.names(v, p); }},
+    {"checkpoint_interval", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) {
+       o.checkpoint_interval = in.non_negative(v, p);
+     }},
 }};
 
 constexpr std::array<Key<Wall>, 3> kWallKeys{{
@@ -948,16 +955,159 @@ void Reader::read_probes(const toml::table& root, Case& c) const {
   });
 }
 
+// ---- --set overrides (docs/case-format.md, "Overrides") --------------------------------
+
+/// TOML text of a basic string.
+std::string toml_string(std::string_view text) {
+  std::string out = "\"";
+  for (const char ch : text) {
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+      out += buf;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+/// The table of `list` that `selector` names: by `id`, else `name` (or `body`), else, when no
+/// table has an `id`, `name` or `body`, by position. Null if none.
+toml::table* select_table(toml::array& list, const std::string& selector, std::string& choices) {
+  std::int64_t number = -1;
+  const char* end = selector.data() + selector.size();
+  const auto [ptr, ec] = std::from_chars(selector.data(), end, number);
+  const bool is_number = ec == std::errc() && ptr == end && number >= 0;
+  bool named = false;
+  std::vector<std::string> seen;
+  for (const std::string_view key : {"id", "name", "body"}) {
+    for (toml::node& n : list) {
+      toml::table* t = n.as_table();
+      const toml::node* v = t != nullptr ? t->get(key) : nullptr;
+      if (v == nullptr) continue;
+      named = true;
+      if (const auto* i = v->as_integer()) {
+        seen.push_back(std::string(key) + " " + std::to_string(i->get()));
+        if (is_number && i->get() == number) return t;
+      } else if (const auto* str = v->as_string()) {
+        seen.push_back(std::string(key) + " '" + str->get() + "'");
+        if (str->get() == selector) return t;
+      }
+    }
+  }
+  if (!named && is_number && static_cast<std::size_t>(number) < list.size()) return list.get(static_cast<std::size_t>(number))->as_table();
+  if (!named)
+    choices = list.size() == 0 ? "there are none" : "select by position 0 to " + std::to_string(list.size() - 1);
+  else
+    choices = sorted_list(seen);
+  return nullptr;
+}
+
+void apply_override(toml::table& root, const std::string& spec, const std::string& source_name) {
+  const std::string label = "--set " + spec;
+  auto fail = [&](const std::string& problem) -> void { throw InputError(source_name + ": " + label + ": " + problem); };
+  const std::size_t eq = spec.find('=');
+  if (eq == std::string::npos) fail("expected KEY=VALUE, e.g. time.end=2e-4");
+  const std::string key = spec.substr(0, eq), value = spec.substr(eq + 1);
+  std::vector<std::string> parts;
+  for (std::size_t at = 0;;) {
+    const std::size_t dot = key.find('.', at);
+    parts.push_back(key.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
+    if (dot == std::string::npos) break;
+    at = dot + 1;
+  }
+  for (const std::string& part : parts)
+    if (part.empty() || part.find_first_of(" \t\"'[]") != std::string::npos)
+      fail("bad key '" + key + "' (expected dotted names, e.g. material.1.E)");
+  if (value.empty()) fail("missing value after '='");
+
+  // Parse `"a"."b"."c" = VALUE` as its own document named after the --set, so that every
+  // node it makes carries that name into the reader's messages; text that is no TOML value
+  // is a string.
+  std::string dotted;
+  for (const std::string& part : parts) dotted += (dotted.empty() ? "" : ".") + toml_string(part);
+  toml::table doc;
+  try {
+    doc = toml::parse(dotted + " = " + value, label);
+  } catch (const toml::parse_error&) {
+    doc = toml::parse(dotted + " = " + toml_string(value), label);
+  }
+
+  // Walk root and doc together; the first missing part moves doc's subtree into root.
+  toml::table* dst = &root;
+  toml::table* src = &doc;
+  std::string path;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const std::string& part = parts[k];
+    auto it = src->find(part);
+    toml::node* existing = dst->get(part);
+    path = child(path, part);
+    if (k + 1 == parts.size() || existing == nullptr) {
+      dst->insert_or_assign(it->first, std::move(it->second));
+      return;
+    }
+    if (toml::table* t = existing->as_table()) {
+      dst = t;
+      src = it->second.as_table();
+      continue;
+    }
+    toml::array* list = existing->as_array();
+    if (list == nullptr || !list->is_array_of_tables())
+      fail("'" + path + "' is a value (" + describe(*existing) + "), not a table");
+    const std::string& selector = parts[k + 1];
+    if (k + 2 == parts.size())
+      fail("'" + path + "." + selector + "' selects a whole [[" + part + "]] table; give one of its keys");
+    std::string choices;
+    toml::table* chosen = select_table(*list, selector, choices);
+    if (chosen == nullptr) fail("no [[" + path + "]] table '" + selector + "' (" + choices + ")");
+    dst = chosen;
+    src = it->second.as_table()->get(selector)->as_table();
+    path = child(path, selector);
+    ++k;
+  }
+}
+
+/// The case as run, as TOML: the root after the overrides, with the name made explicit and
+/// the outline file made absolute, so that the text runs alone from any folder and reads
+/// back to itself.
+std::string effective_text(const toml::table& root, const std::string& source_name, const std::string& base_dir) {
+  toml::table copy = root;
+  if (toml::table* c = copy["case"].as_table(); c != nullptr && !c->contains("name"))
+    c->insert("name", std::filesystem::path(source_name).stem().string());
+  if (toml::table* mesh = copy["mesh"].as_table()) {
+    if (const auto* outline = mesh->get_as<std::string>("outline")) {
+      std::filesystem::path file(outline->get());
+      if (file.is_relative()) {
+        file = std::filesystem::absolute(base_dir.empty() ? file : std::filesystem::path(base_dir) / file);
+        mesh->insert_or_assign("outline", file.lexically_normal().string());
+      }
+    }
+  }
+  std::ostringstream out;
+  out << "# The case as run (hexdem run with every --set applied); run it alone with `hexdem run`.\n";
+  out << copy << "\n";
+  return out.str();
+}
+
 }  // namespace
 
 Case parse_case(std::string_view text, const std::string& source_name,
-                const std::string& base_dir) {
+                const std::string& base_dir, const std::vector<std::string>& overrides) {
   toml::table root = meshing::parse_toml(text, source_name);
-  return Reader(source_name, base_dir).read(root);
+  for (const std::string& spec : overrides) apply_override(root, spec, source_name);
+  std::string effective = effective_text(root, source_name, base_dir);
+  Case c = Reader(source_name, base_dir).read(root);
+  c.effective_toml = std::move(effective);
+  return c;
 }
 
-Case read_case(const std::string& path) {
-  return parse_case(meshing::read_text_file(path), path, std::filesystem::path(path).parent_path().string());
+Case read_case(const std::string& path, const std::vector<std::string>& overrides) {
+  return parse_case(meshing::read_text_file(path), path, std::filesystem::path(path).parent_path().string(),
+                    overrides);
 }
 
 }  // namespace hexdem::solver

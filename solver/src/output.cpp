@@ -14,11 +14,13 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/meshing/toml_values.hpp"
+#include "hexdem/solver/run_summary.hpp"
 
 namespace hexdem::solver {
 namespace {
@@ -172,7 +174,62 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   return g;
 }
 
-RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
+RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) { open(solver, nullptr); }
+
+RunOutput::RunOutput(const Solver& solver, const std::string& dir, const RunState& resume) : dir_(dir) {
+  open(solver, &resume);
+}
+
+/// FNV-1a hash of the first `bytes` of a file (fewer if it is shorter).
+static std::uint64_t prefix_hash(const std::string& path, std::uint64_t bytes) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t h = fnv1a(nullptr, 0);
+  std::vector<char> buf(1 << 16);
+  while (bytes > 0 && in) {
+    in.read(buf.data(), static_cast<std::streamsize>(std::min<std::uint64_t>(bytes, buf.size())));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    h = fnv1a(buf.data(), got, h);
+    bytes -= got;
+  }
+  return h;
+}
+
+void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec || size < bytes)
+    throw InputError(path + ": " + (ec ? std::string("missing") : std::to_string(size) + " bytes") +
+                     ", the checkpoint was written after " + std::to_string(bytes) +
+                     " bytes of it (restart in the output folder the checkpoint was written for)");
+  if (prefix_hash(path, bytes) != hash)
+    throw InputError(path + ": its first " + std::to_string(bytes) +
+                     " bytes are not the ones the checkpoint's run wrote (another run has written this folder since)");
+  fs::resize_file(path, bytes, ec);
+  if (ec) throw std::runtime_error(path + ": cannot truncate for the restart (" + ec.message() + ")");
+}
+
+void RunOutput::save_state(RunState& state) {
+  state.frames = pvd_;
+  state.last_frame = last_frame_;
+  // The size on disk after a flush (tellp() of a stream opened to append is not the size).
+  auto bytes = [](std::ofstream& f, const std::string& path) -> std::uint64_t {
+    if (!f.is_open()) return 0;
+    f.flush();
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (!f || ec) throw std::runtime_error(path + ": cannot write before the checkpoint");
+    return static_cast<std::uint64_t>(size);
+  };
+  state.energy_bytes = bytes(energy_, energy_path_);
+  state.probes_bytes = bytes(probes_, probes_path_);
+  state.bodies_bytes = bytes(bodies_, bodies_path_);
+  state.energy_hash = prefix_hash(energy_path_, state.energy_bytes);
+  state.probes_hash = prefix_hash(probes_path_, state.probes_bytes);
+  state.bodies_hash = prefix_hash(bodies_path_, state.bodies_bytes);
+}
+
+void RunOutput::open(const Solver& solver, const RunState* resume) {
   const Case& c = solver.case_data();
   name_ = c.name;
   compression_level_ = c.output.compression_level;
@@ -180,29 +237,54 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
   std::error_code ec;
   fs::create_directories(frame_dir_, ec);
   if (ec) throw std::runtime_error(frame_dir_ + ": cannot create folder (" + ec.message() + ")");
-  // Old frames of this case would be listed by nobody but could confuse a reader: remove them.
+  // Old frames of this case would be listed by nobody but could confuse a reader: remove them
+  // (on a restart, those after the checkpoint).
+  std::vector<std::string> keep;
+  if (resume != nullptr)
+    for (const io::PvdEntry& e : resume->frames) keep.push_back(fs::path(e.file).filename().string());
   for (const auto& e : fs::directory_iterator(frame_dir_)) {
     const std::string f = e.path().filename().string();
-    if (f.rfind(name_ + "_", 0) == 0 && e.path().extension() == ".vtu") fs::remove(e.path(), ec);
+    if (f.rfind(name_ + "_", 0) == 0 && e.path().extension() == ".vtu" &&
+        std::find(keep.begin(), keep.end(), f) == keep.end())
+      fs::remove(e.path(), ec);
   }
   pvd_path_ = (fs::path(dir_) / (name_ + ".pvd")).string();
   energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
   probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
   bodies_path_ = (fs::path(dir_) / (name_ + ".bodies.csv")).string();
   status_path_ = (fs::path(dir_) / (name_ + ".status")).string();
-  fs::remove(pvd_path_, ec);
   write_status("running");
+  // The CSVs of a restart continue from the checkpoint; those of a new run start afresh.
+  const std::ios::openmode mode = resume != nullptr ? std::ios::app : std::ios::trunc;
+  if (resume != nullptr) {
+    for (const io::PvdEntry& e : resume->frames)
+      if (!fs::exists(fs::path(dir_) / e.file))
+        throw InputError((fs::path(dir_) / e.file).string() +
+                         ": missing, the checkpoint lists it (restart in the output folder the checkpoint was "
+                         "written for)");
+    truncate_for_restart(energy_path_, resume->energy_bytes, resume->energy_hash);
+    if (!c.probes.empty()) truncate_for_restart(probes_path_, resume->probes_bytes, resume->probes_hash);
+    if (!c.output.body_history.empty())
+      truncate_for_restart(bodies_path_, resume->bodies_bytes, resume->bodies_hash);
+    pvd_ = resume->frames;
+    last_frame_ = resume->last_frame;
+    io::write_pvd(pvd_path_, pvd_);
+  } else {
+    fs::remove(pvd_path_, ec);
+  }
 
-  energy_.open(energy_path_, std::ios::trunc);
+  energy_.open(energy_path_, mode);
   if (!energy_) throw std::runtime_error(energy_path_ + ": cannot write");
-  energy_ << "time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,friction,"
-             "input,total,relative_error\n";
+  if (resume == nullptr)
+    energy_ << "time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,friction,"
+               "input,total,relative_error\n";
 
-  fs::remove(probes_path_, ec);
+  if (resume == nullptr) fs::remove(probes_path_, ec);
   if (!c.probes.empty()) {
-    probes_.open(probes_path_, std::ios::trunc);
+    probes_.open(probes_path_, mode);
     if (!probes_) throw std::runtime_error(probes_path_ + ": cannot write");
-    probes_ << "time,step";
+    std::ostringstream header;
+    header << "time,step";
     const Model& m = solver.model();
     for (const Probe& p : c.probes) {
       // The disk nearest to the probe point (reference positions).
@@ -222,28 +304,30 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
       if (fields.empty()) fields = {"displacement", "velocity", "stress", "rotation", "spin"};
       for (const std::string& f : fields) {
         if (f == "displacement" || f == "velocity") {
-          probes_ << "," << p.name << "." << f << "_x," << p.name << "." << f << "_y";
+          header << "," << p.name << "." << f << "_x," << p.name << "." << f << "_y";
         } else if (f == "stress") {
-          probes_ << "," << p.name << ".stress_xx," << p.name << ".stress_yy," << p.name
-                  << ".stress_xy," << p.name << ".stress_zz";
+          header << "," << p.name << ".stress_xx," << p.name << ".stress_yy," << p.name
+                 << ".stress_xy," << p.name << ".stress_zz";
         } else {
-          probes_ << "," << p.name << "." << f;
+          header << "," << p.name << "." << f;
         }
       }
       probe_points_.push_back({best, fields});
     }
-    probes_ << "\n";
+    header << "\n";
+    if (resume == nullptr) probes_ << header.str();
   }
 
-  fs::remove(bodies_path_, ec);
+  if (resume == nullptr) fs::remove(bodies_path_, ec);
   if (!c.output.body_history.empty()) {
-    bodies_.open(bodies_path_, std::ios::trunc);
+    bodies_.open(bodies_path_, mode);
     if (!bodies_) throw std::runtime_error(bodies_path_ + ": cannot write");
     // Body index = position in the outline (the lattice's `body` numbers).
     std::vector<std::string> names;
     for (const meshing::BodyOutline& b : c.outline.bodies) names.push_back(b.name);
     body_slot_.assign(names.size(), -1);
-    bodies_ << "time,step";
+    std::ostringstream header;
+    header << "time,step";
     for (const std::string& b : c.output.body_history) {
       const auto at = std::find(names.begin(), names.end(), b);
       if (at == names.end()) throw InputError(c.source + ": output.body_history: unknown body '" + b + "'");
@@ -253,9 +337,10 @@ RunOutput::RunOutput(const Solver& solver, const std::string& dir) : dir_(dir) {
         throw InputError(c.source + ": output.body_history: body '" + b + "' selects no disk (it has none)");
       body_slot_[static_cast<std::size_t>(at - names.begin())] = static_cast<int>(body_sums_.size());
       body_sums_.push_back({});
-      for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) bodies_ << "," << b << "." << col;
+      for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) header << "," << b << "." << col;
     }
-    bodies_ << "\n";
+    header << "\n";
+    if (resume == nullptr) bodies_ << header.str();
   }
 }
 
@@ -372,14 +457,40 @@ int run_case(const Case& c, const RunOptions& options) {
   const auto wall_setup = std::chrono::steady_clock::now();
   double output_seconds = 0;
   const TimeStepInfo& ts = solver.time_step();
-  const std::string dir = options.out_dir.empty() ? c.name + "-output" : options.out_dir;
-  RunOutput out(solver, dir);
+  // A restart continues in the checkpoint's folder unless told otherwise.
+  std::string dir = options.out_dir.empty() ? c.name + "-output" : options.out_dir;
+  if (options.out_dir.empty() && !options.restart.empty()) {
+    dir = fs::path(options.restart).parent_path().string();
+    if (dir.empty()) dir = ".";
+  }
+  RunState run;
+  const bool restart = !options.restart.empty();
+  if (restart) read_checkpoint(options.restart, solver, run);
+  RunOutput out = restart ? RunOutput(solver, dir, run) : RunOutput(solver, dir);
+  // The case as run, runnable alone: `hexdem run DIR/<case>.case.toml` repeats this run.
+  if (!c.effective_toml.empty())
+    io::write_file_atomic((fs::path(dir) / (c.name + ".case.toml")).string(), c.effective_toml);
+  const std::string checkpoint_path = (fs::path(dir) / (c.name + ".chk")).string();
+  const std::string summary_path = (fs::path(dir) / (c.name + ".summary.csv")).string();
+  {
+    std::error_code ec;
+    fs::remove(summary_path, ec);  // written again only if this run completes
+  }
 
   const std::int64_t steps = solver.total_steps();
   const double dt = solver.dt();
   const double frame_dt = c.output.interval;
   const double probe_dt = c.output.probe_interval;
-  double next_frame = 0.0, next_probe = 0.0;
+  const double checkpoint_dt = c.output.checkpoint_interval;
+  double next_frame = 0.0, next_probe = 0.0, next_checkpoint = checkpoint_dt;
+  double max_error = 0;
+  if (restart) {
+    next_frame = run.next_frame;
+    next_probe = run.next_probe;
+    next_checkpoint = run.next_checkpoint;
+    max_error = run.max_error;
+  }
+  const std::int64_t first_step = solver.step_index();
   const auto report_interval = std::chrono::milliseconds(500);
   auto last_report = wall0;
   if (!options.quiet) {
@@ -393,12 +504,14 @@ int run_case(const Case& c, const RunOptions& options) {
     std::printf("  %lld steps to t = %.6g s, threads %d\n", static_cast<long long>(steps), c.time.end,
                 omp_get_max_threads());
     for (const std::string& line : solver.plasticity_report()) std::printf("  %s\n", line.c_str());
+    if (restart)
+      std::printf("  restart from %s at step %lld (t = %.6g s)\n", options.restart.c_str(),
+                  static_cast<long long>(first_step), solver.time());
     std::fflush(stdout);
   }
 
   for (const std::string& w : solver.warnings()) std::fprintf(stderr, "hexdem: warning: %s\n", w.c_str());
   bool ok = true;
-  double max_error = 0;
   bool frame = false, probe = false, energy_row = false, warned = false;
   // Built once: a std::function made per step would allocate per step.
   const std::function<void(const Solver&)> at_tn = [&](const Solver& s) {
@@ -414,7 +527,7 @@ int run_case(const Case& c, const RunOptions& options) {
     }
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  for (std::int64_t n = 0; n <= steps; ++n) {
+  for (std::int64_t n = first_step; n <= steps; ++n) {
     const double t = static_cast<double>(n) * dt;
     const bool last = n == steps;
     frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
@@ -429,12 +542,25 @@ int run_case(const Case& c, const RunOptions& options) {
     if (!ok) break;
     if (frame_dt > 0) while (next_frame <= t + 0.5 * dt) next_frame += frame_dt;
     if (probe) while (next_probe <= t + 0.5 * dt) next_probe += (probe_dt > 0 ? probe_dt : dt);
+    // A checkpoint holds the state after step n (at t_{n+1}), with this step's output done.
+    if (checkpoint_dt > 0 && !last && t >= next_checkpoint - 0.5 * dt) {
+      while (next_checkpoint <= t + 0.5 * dt) next_checkpoint += checkpoint_dt;
+      const auto t0 = std::chrono::steady_clock::now();
+      run.next_frame = next_frame;
+      run.next_probe = next_probe;
+      run.next_checkpoint = next_checkpoint;
+      run.max_error = max_error;
+      out.save_state(run);
+      write_checkpoint(checkpoint_path, solver, run);
+      output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
     if (options.progress) {
       const auto now = std::chrono::steady_clock::now();
       if (now - last_report >= report_interval || last) {
         last_report = now;
         const double wall = std::chrono::duration<double>(now - wall0).count();
-        const double eta = n > 0 ? wall / static_cast<double>(n) * static_cast<double>(steps - n) : 0.0;
+        const double done = static_cast<double>(n - first_step);
+        const double eta = done > 0 ? wall / done * static_cast<double>(steps - n) : 0.0;
         std::fprintf(stderr, "\r  step %lld/%lld  t = %.4e s  wall %.1f s  ETA %.1f s   ",
                      static_cast<long long>(n), static_cast<long long>(steps), t, wall, eta);
         if (last) std::fprintf(stderr, "\n");
@@ -458,6 +584,7 @@ int run_case(const Case& c, const RunOptions& options) {
                      " at t = " + meshing::format_number(b.time) + " s: " + b.reason);
     return kExitFailure;
   }
+  write_run_summary(summary_path, run_summary(solver));
   out.write_status("completed");
   if (!options.quiet) {
     const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
@@ -471,6 +598,7 @@ int run_case(const Case& c, const RunOptions& options) {
                   solver.detection_seconds(), 100.0 * solver.detection_seconds() / step_seconds);
     }
     std::printf("  series: %s\n  energy: %s\n", out.pvd_path().c_str(), out.energy_path().c_str());
+    if (checkpoint_dt > 0 && fs::exists(checkpoint_path)) std::printf("  checkpoint: %s\n", checkpoint_path.c_str());
     if (!c.probes.empty()) std::printf("  probes: %s\n", out.probes_path().c_str());
     if (!c.output.body_history.empty()) std::printf("  bodies: %s\n", out.bodies_path().c_str());
   }

@@ -89,6 +89,8 @@ struct OutputControl {
   /// `probe_interval`: mass [kg or kg/rad], centre of mass [m], mass-averaged velocity [m/s],
   /// momentum [kg m/s or per rad], kinetic energy [J or J/rad]. Empty: no file.
   std::vector<std::string> body_history;
+  /// Simulated time between checkpoints `<case>.chk` [s]; 0 = none (docs/file-format.md).
+  double checkpoint_interval = 0;
 };
 
 /// A rigid planar wall: the half-plane behind the line through `point` with unit `normal`
@@ -126,6 +128,10 @@ struct Case {
   TimeControl time;
   OutputControl output;
   ContactControl contact;
+  /// The case as run: the file's TOML with every --set override applied (written as
+  /// `<case>.case.toml` beside the output; its hash identifies checkpoints). Empty for a
+  /// Case built in code.
+  std::string effective_toml;
   std::vector<std::string> warnings;  ///< non-fatal reader notes (e.g. DXF entities skipped),
                                       ///< one line each, for the program to print
 

@@ -6,16 +6,25 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hexdem/solver/case.hpp"
 
 namespace hexdem::solver {
 
 /// Reads a case file. Throws InputError "FILE:LINE: KEY: message (got VALUE)" on bad input.
-Case read_case(const std::string& path);
+/// `overrides` are `--set` values "DOTTED.KEY=VALUE" applied to the file's TOML before it is
+/// read (docs/case-format.md, "Overrides"): each dot descends one table; in an array of
+/// tables the next part selects one table by its `id`, else its `name` (or, for
+/// [[initial_velocity]], its `body`), else, for tables with neither, by position from 0.
+/// VALUE is a TOML value, or else taken as a string. The checks and messages are the file's,
+/// naming the --set. The result's effective_toml is the case as run.
+Case read_case(const std::string& path, const std::vector<std::string>& overrides = {});
 
 /// Same from text; `source_name` names it in messages and `base_dir` resolves relative paths
 /// (the outline file).
-Case parse_case(std::string_view text, const std::string& source_name, const std::string& base_dir);
+Case parse_case(std::string_view text, const std::string& source_name, const std::string& base_dir,
+                const std::vector<std::string>& overrides = {});
+
 
 }  // namespace hexdem::solver

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hexdem/io/vtu_writer.hpp"
+#include "hexdem/solver/checkpoint.hpp"
 #include "hexdem/solver/solver.hpp"
 
 namespace hexdem::solver {
@@ -22,6 +23,13 @@ public:
   /// Creates DIR (and DIR/<case>/, emptied of old frames of this case) and opens the CSVs.
   /// Throws std::runtime_error naming the path if it cannot.
   RunOutput(const Solver& solver, const std::string& dir);
+  /// Continues the output of a run from a checkpoint's `resume` state: keeps the frames it
+  /// lists (removes later ones of this case), rewrites the .pvd with them, and truncates the
+  /// CSVs to the recorded sizes to append from there. Throws InputError if a CSV is missing
+  /// or shorter than recorded (restart in the folder the checkpoint was written for).
+  RunOutput(const Solver& solver, const std::string& dir, const RunState& resume);
+  /// The output's part of a checkpoint: frames written, last frame, CSV sizes (flushed).
+  void save_state(RunState& state);
 
   /// Writes a frame of the state at t_n (call from Solver::advance's at_tn) and rewrites
   /// the .pvd.
@@ -58,6 +66,11 @@ public:
   static io::LineGrid frame_grid(const Solver& solver, ContactCells& contacts);
 
 private:
+  void open(const Solver& solver, const RunState* resume);
+  /// Restart: checks that `path` holds at least `bytes` whose hash is `hash` (the run's own
+  /// rows) and cuts it there.
+  static void truncate_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash);
+
   struct ProbePoint {
     std::size_t disk;
     std::vector<std::string> fields;
@@ -81,6 +94,8 @@ struct RunOptions {
   int threads = 0;         ///< OpenMP threads (0: the runtime's default)
   bool progress = false;   ///< a progress line on stderr
   bool quiet = false;      ///< no summary on stdout
+  /// Checkpoint to continue from (`--restart`); empty: start at t = 0.
+  std::string restart;
 };
 
 /// Meshes and runs a case. Returns the exit code: 0 on success, 1 on a numerical blow-up

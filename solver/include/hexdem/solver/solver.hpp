@@ -20,6 +20,8 @@
 
 namespace hexdem::solver {
 
+struct CheckpointAccess;  // checkpoint.hpp
+
 /// Energy balance at a time t_n [J] (per unit... as the model: J for plane models with their
 /// thickness, J per radian for axisymmetric ones).
 struct EnergyBalance {
@@ -138,6 +140,8 @@ public:
   [[nodiscard]] double finite_omega2_max(int max_iterations = 200);
 
 private:
+  friend struct CheckpointAccess;  // checkpoint.cpp stores and restores the state
+
   struct LoadSet {
     const Load* load;
     std::vector<std::int32_t> disks;

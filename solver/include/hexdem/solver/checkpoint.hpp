@@ -1,0 +1,78 @@
+#pragma once
+/// \file checkpoint.hpp
+/// Checkpoint and restart (docs/file-format.md, "Checkpoints"): the complete state of a run
+/// (every per-disk and per-bond state vector of the Model, the Solver's contacts, wall
+/// forces, energy ledger and trapezoid sums, step and time, and the output state of
+/// `hexdem run`) in one binary file, written atomically: a temporary file in the same
+/// folder, fsync, rename, fsync of the folder. A process killed while writing leaves the
+/// previous checkpoint intact.
+///
+/// File layout (little-endian, as the machine writes it): the magic "HEXDEMCK", the format
+/// version (u32), a hash of the effective case text (u64) and of the lattice (u64), the
+/// number of records (u64), then per record its name (u32 length + bytes), element size
+/// (u32), element count (u64) and the raw elements, and last an FNV-1a checksum (u64) of
+/// everything before it. Records are found by name, so their order does not matter.
+///
+/// The broad phase of the contacts is not stored: it is rebuilt from the stored centres.
+/// The candidate list may then differ from the uninterrupted run's, but only by pairs that
+/// are apart and carry no force, so every force, energy and output is bit-identical.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hexdem/io/vtu_writer.hpp"
+#include "hexdem/solver/solver.hpp"
+
+namespace hexdem::solver {
+
+/// Version of the checkpoint layout; a file of another version is refused.
+inline constexpr std::uint32_t kCheckpointVersion = 1;
+
+/// The run loop's own state (`hexdem run`), stored with the solver's.
+struct RunState {
+  double next_frame = 0;       ///< simulated time of the next frame [s]
+  double next_probe = 0;       ///< of the next probe row [s]
+  double next_checkpoint = 0;  ///< of the next checkpoint [s]
+  double max_error = 0;        ///< largest |relative energy error| so far
+  std::vector<io::PvdEntry> frames;  ///< frames written so far (the .pvd's entries)
+  std::string last_frame;            ///< path of the last frame written
+  /// Bytes of the energy, probe and body CSVs when the checkpoint was written: a restart
+  /// truncates them there and appends.
+  std::uint64_t energy_bytes = 0, probes_bytes = 0, bodies_bytes = 0;
+  /// FNV-1a hashes of those first bytes: a restart refuses CSVs another run has rewritten.
+  std::uint64_t energy_hash = 0, probes_hash = 0, bodies_hash = 0;
+};
+
+/// FNV-1a 64-bit hash of bytes (also the file's checksum).
+std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 14695981039346656037ull);
+
+/// Hash of the case as run: its effective TOML text (Case::effective_toml, the file with
+/// every --set applied), or, for a Case built in code, its name and source.
+std::uint64_t case_hash(const Case& c);
+/// Hash of the solver's lattice and model layout: reference centres, radii, bodies,
+/// materials, bonds and masses.
+std::uint64_t lattice_hash(const Solver& s);
+
+/// Writes the checkpoint of `s` and `run` to `path` atomically. Throws std::runtime_error
+/// naming the path if it cannot write.
+void write_checkpoint(const std::string& path, const Solver& s, const RunState& run);
+
+/// Reads a checkpoint into `s`, a Solver freshly built from the same case, and `run`.
+/// Throws InputError with a one-line message naming the file if it is not a checkpoint, is
+/// truncated or damaged, has another format version, or belongs to another case or lattice.
+void read_checkpoint(const std::string& path, Solver& s, RunState& run);
+
+/// Members of Model and Solver that the checkpoint's list of members does not cover
+/// (neither stored nor declared rebuilt at construction), as "Model: N bytes at offset O
+/// after 'name'". Empty when the list is complete: a test fails when a member is added to
+/// Model or Solver without being added to the list in checkpoint.cpp.
+std::vector<std::string> checkpoint_coverage_gaps(const Solver& s);
+
+/// Names of the records a checkpoint of `s` holds (for tests and documentation).
+std::vector<std::string> checkpoint_record_names(const Solver& s);
+
+/// Access to the Solver's private state for the checkpoint (a friend of Solver).
+struct CheckpointAccess;
+
+}  // namespace hexdem::solver

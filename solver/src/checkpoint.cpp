@@ -1,0 +1,591 @@
+// Checkpoint and restart: the complete state of a run in one file, written atomically
+// (layout: checkpoint.hpp). One list of members per class (visit_model, visit_solver) drives
+// writing, reading and the coverage check: adding a state vector is one line there.
+#include "hexdem/solver/checkpoint.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "hexdem/error.hpp"
+
+namespace hexdem::solver {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kMagic[8] = {'H', 'E', 'X', 'D', 'E', 'M', 'C', 'K'};
+
+template <class T>
+struct is_vector : std::false_type {};
+template <class T, class A>
+struct is_vector<std::vector<T, A>> : std::true_type {};
+
+/// The members of Model, in declaration order. `v.state(name, member)` for state the
+/// checkpoint stores (everything that may change during a run, and the constants built with
+/// it: restoring them is exact and cheap to reason about); `v.rebuilt(name, member)` for
+/// what the constructor rebuilds from the case (or work space a step overwrites).
+template <class M, class V>
+void visit_model(M& m, V& v) {
+  v.rebuilt("geometry", m.geometry);
+  v.rebuilt("shear_model", m.shear_model);
+  v.state("thickness", m.thickness);
+  // disks
+  v.state("x0", m.x0); v.state("y0", m.y0);
+  v.state("ux", m.ux); v.state("uy", m.uy);
+  v.state("vx", m.vx); v.state("vy", m.vy);
+  v.state("theta", m.theta); v.state("omega", m.omega);
+  v.state("fx", m.fx); v.state("fy", m.fy); v.state("torque", m.torque);
+  v.state("fx_ext", m.fx_ext); v.state("fy_ext", m.fy_ext);
+  v.state("ext_mxx", m.ext_mxx); v.state("ext_myy", m.ext_myy); v.state("ext_mxy", m.ext_mxy);
+  v.state("mass", m.mass); v.state("inertia", m.inertia);
+  v.state("radius", m.radius);
+  v.state("cell_area", m.cell_area);
+  v.state("weight", m.weight);
+  v.state("kind", m.kind);
+  v.state("body", m.body); v.state("material", m.material);
+  v.state("constraint", m.constraint);
+  v.state("initial_bonds", m.initial_bonds);
+  v.state("mirror_plane", m.mirror_plane);
+  v.state("wall_kx", m.wall_kx); v.state("wall_ky", m.wall_ky);
+  v.state("wall_sx", m.wall_sx); v.state("wall_sy", m.wall_sy);
+  v.state("minv_xx", m.minv_xx); v.state("minv_xy", m.minv_xy); v.state("minv_yy", m.minv_yy);
+  v.state("eps_xx", m.eps_xx); v.state("eps_yy", m.eps_yy); v.state("eps_xy", m.eps_xy);
+  v.state("w_xx", m.w_xx); v.state("w_xy", m.w_xy); v.state("w_yx", m.w_yx); v.state("w_yy", m.w_yy);
+  v.state("hoop_lambda", m.hoop_lambda); v.state("hoop_mu", m.hoop_mu);
+  v.state("nu_zz", m.nu_zz);
+  v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);
+  // bonds
+  v.state("bi", m.bi); v.state("bj", m.bj);
+  v.state("ax", m.ax); v.state("ay", m.ay);
+  v.state("rest_length", m.rest_length);
+  v.state("g_xx", m.g_xx); v.state("g_yy", m.g_yy); v.state("g_xy", m.g_xy);
+  v.state("k_n", m.k_n); v.state("k_s", m.k_s);
+  v.state("f_n", m.f_n); v.state("f_s", m.f_s);
+  v.state("nx", m.nx); v.state("ny", m.ny);
+  v.state("u_s", m.u_s);
+  v.state("state", m.state);
+  v.state("bond_class", m.bond_class);
+  v.state("break_time", m.break_time);
+  // plasticity, failure, contact of the bonds
+  v.state("any_plastic", m.any_plastic);
+  v.state("any_breakable", m.any_breakable);
+  v.state("contact_damping", m.contact_damping);
+  v.state("time", m.time);
+  v.state("f_yield", m.f_yield);
+  v.state("kh_n", m.kh_n); v.state("kh_s", m.kh_s);
+  v.state("alpha_n", m.alpha_n); v.state("alpha_s", m.alpha_s);
+  v.state("len_prev", m.len_prev);
+  v.state("section", m.section);
+  v.state("mu", m.mu);
+  v.state("failure_law", m.failure_law);
+  v.rebuilt("failure_laws", m.failure_laws);
+  v.state("failure_tan_phi", m.failure_tan_phi);
+  v.state("plastic_work", m.plastic_work);
+  v.state("fracture_energy", m.fracture_energy);
+  v.state("contact_damping_work", m.contact_damping_work);
+  v.state("friction_work", m.friction_work);
+  v.state("newly_broken", m.newly_broken);
+  // J2 disks
+  v.state("any_j2", m.any_j2);
+  v.state("j2_sigma_y", m.j2_sigma_y); v.state("j2_h", m.j2_h);
+  v.state("eps_p_xx", m.eps_p_xx); v.state("eps_p_yy", m.eps_p_yy);
+  v.state("eps_p_xy", m.eps_p_xy); v.state("eps_p_33", m.eps_p_33);
+  v.state("beta_xx", m.beta_xx); v.state("beta_yy", m.beta_yy);
+  v.state("beta_xy", m.beta_xy); v.state("beta_33", m.beta_33);
+  v.state("eps_p_eq", m.eps_p_eq);
+  v.state("sig_xx", m.sig_xx); v.state("sig_yy", m.sig_yy);
+  v.state("sig_xy", m.sig_xy); v.state("sig_33", m.sig_33);
+  v.state("disk_plastic_work", m.disk_plastic_work);
+  // adjacency
+  v.state("adj_offset", m.adj_offset); v.state("adj_bond", m.adj_bond);
+  v.state("adj_other", m.adj_other); v.state("adj_sign", m.adj_sign);
+  v.state("adj_ax", m.adj_ax); v.state("adj_ay", m.adj_ay);
+  v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
+}
+
+}  // namespace
+
+/// The Solver's members, in declaration order (see visit_model).
+struct CheckpointAccess {
+  template <class S, class V>
+  static void visit_solver(S& s, V& v) {
+    v.rebuilt("case", s.case_);
+    v.rebuilt("lattice", s.lattice_);
+    v.model("model", s.model_);
+    v.rebuilt("body_materials", s.body_materials_);
+    v.rebuilt("bloch", s.bloch_);
+    v.rebuilt("plasticity_report", s.plasticity_report_);
+    v.rebuilt("warnings", s.warnings_);
+    v.rebuilt("loads", s.loads_);
+    v.rebuilt("velocity_sets", s.velocity_sets_);
+    v.rebuilt("loaded_disks", s.loaded_disks_);
+    v.rebuilt("block_sums", s.block_sums_);  // work space of update_velocities
+    v.state("dt_info", s.dt_info_);
+    v.state("energy", s.energy_);
+    v.rebuilt("blow_up", s.blow_up_);
+    v.state("time", s.time_);
+    v.state("step", s.step_);
+    v.state("p_max", s.p_max_);
+    v.state("ext_b_before", s.ext_b_before_);
+    v.state("damp_b_before", s.damp_b_before_);
+    v.state("ext_a", s.ext_a_);
+    v.state("damp_a", s.damp_a_);
+    v.state("initial_energy", s.initial_energy_);
+    v.state("broken_bonds", s.broken_bonds_);
+    v.state("contacts_on", s.contacts_on_);
+    v.rebuilt("sweep", s.sweep_);  // rebuilt from the centres by rebuild_broad_phase
+    v.state("px", s.px_);
+    v.state("py", s.py_);
+    v.state("contacts", s.contacts_);
+    v.rebuilt("contacts_next", s.contacts_next_);  // work space of contact_forces
+    v.rebuilt("body_kn", s.body_kn_);
+    v.rebuilt("body_kt", s.body_kt_);
+    v.rebuilt("body_mu", s.body_mu_);
+    v.state("contact_damping_work", s.contact_damping_work_);
+    v.state("contact_friction_work", s.contact_friction_work_);
+    v.rebuilt("detection_seconds", s.detection_seconds_);  // wall time of this process, not state
+    v.state("wall_fn", s.wall_fn_);
+    v.state("wall_fs", s.wall_fs_);
+  }
+
+  /// After the stored state is in place: the broad phase from the restored centres, and the
+  /// contact list as its candidate pairs with the stored forces carried over.
+  static void rebuild_broad_phase(Solver& s, const std::string& path) {
+    if (!s.contacts_on_) return;
+    const Model& m = s.model_;
+    const std::size_t n = m.num_disks();
+    if (s.px_.size() != n || s.py_.size() != n)
+      throw InputError(path + ": damaged checkpoint: contact centres for " + std::to_string(s.px_.size()) +
+                       " disks, the model has " + std::to_string(n));
+    s.sweep_.build(s.px_.data(), s.py_.data(), m.radius.data(), n, s.sweep_.margin());
+    std::vector<Solver::Contact> stored;
+    stored.swap(s.contacts_);
+    std::size_t k = 0, carried = 0;
+    for (const auto& [i, j] : s.sweep_.pairs()) {
+      while (k < stored.size() && (stored[k].i < i || (stored[k].i == i && stored[k].j < j))) ++k;
+      Solver::Contact c{i, j, 0.0, 0.0};
+      if (k < stored.size() && stored[k].i == i && stored[k].j == j) {
+        c = stored[k];
+        carried += c.f_n != 0 || c.f_s != 0;
+      }
+      s.contacts_.push_back(c);
+    }
+    std::size_t loaded = 0;
+    for (const Solver::Contact& c : stored) loaded += c.f_n != 0 || c.f_s != 0;
+    // A pair that carries force touches: it is a candidate of any broad phase of these centres.
+    HEXDEM_VERIFY(carried == loaded, "a loaded contact is missing from the rebuilt broad phase");
+  }
+};
+
+namespace {
+
+// ---- writing ------------------------------------------------------------------------
+
+class Writer {
+ public:
+  explicit Writer(std::string prefix = {}) : prefix_(std::move(prefix)) {}
+
+  template <class T>
+  void state(const char* name, const T& value) {
+    const std::string key = prefix_ + name;
+    if constexpr (is_vector<T>::value) {
+      using E = typename T::value_type;
+      if constexpr (is_vector<E>::value) {
+        // A vector of vectors (per wall, per disk): the count, then each row.
+        const std::uint64_t rows = value.size();
+        raw(key + ".rows", &rows, sizeof rows, 1);
+        for (std::size_t r = 0; r < value.size(); ++r) state((std::string(name) + "." + std::to_string(r)).c_str(), value[r]);
+      } else {
+        static_assert(std::is_trivially_copyable_v<E>);
+        raw(key, value.data(), sizeof(E), value.size());
+      }
+    } else {
+      static_assert(std::is_trivially_copyable_v<T>);
+      raw(key, &value, sizeof(T), 1);
+    }
+  }
+  template <class T>
+  void rebuilt(const char*, const T&) {}
+  template <class M>
+  void model(const char* name, const M& m) {
+    const std::string saved = prefix_;
+    prefix_ = saved + name + ".";
+    visit_model(m, *this);
+    prefix_ = saved;
+  }
+  void text(const std::string& name, const std::string& value) { raw(name, value.data(), 1, value.size()); }
+
+  void raw(const std::string& name, const void* data, std::size_t elem, std::size_t count) {
+    put<std::uint32_t>(static_cast<std::uint32_t>(name.size()));
+    buf_.append(name);
+    put<std::uint32_t>(static_cast<std::uint32_t>(elem));
+    put<std::uint64_t>(count);
+    buf_.append(static_cast<const char*>(data), elem * count);
+    names_.push_back(name);
+  }
+  template <class T>
+  void put(T v) {
+    buf_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+
+  std::string buf_;
+  std::vector<std::string> names_;
+
+ private:
+  std::string prefix_;
+};
+
+void save_run(Writer& w, const RunState& run) {
+  w.state("run.next_frame", run.next_frame);
+  w.state("run.next_probe", run.next_probe);
+  w.state("run.next_checkpoint", run.next_checkpoint);
+  w.state("run.max_error", run.max_error);
+  std::vector<double> times;
+  std::string files;
+  for (const io::PvdEntry& e : run.frames) {
+    times.push_back(e.time);
+    files += e.file + '\n';
+  }
+  w.state("run.frame_times", times);
+  w.text("run.frame_files", files);
+  w.text("run.last_frame", run.last_frame);
+  w.state("run.energy_bytes", run.energy_bytes);
+  w.state("run.probes_bytes", run.probes_bytes);
+  w.state("run.bodies_bytes", run.bodies_bytes);
+  w.state("run.energy_hash", run.energy_hash);
+  w.state("run.probes_hash", run.probes_hash);
+  w.state("run.bodies_hash", run.bodies_hash);
+}
+
+// ---- reading ------------------------------------------------------------------------
+
+struct Record {
+  std::size_t elem = 0, count = 0;
+  const char* data = nullptr;
+};
+
+class Reader {
+ public:
+  Reader(std::string path, std::map<std::string, Record> records)
+      : path_(std::move(path)), records_(std::move(records)) {}
+
+  template <class T>
+  void state(const char* name, T& value) {
+    const std::string key = prefix_ + name;
+    if constexpr (is_vector<T>::value) {
+      using E = typename T::value_type;
+      if constexpr (is_vector<E>::value) {
+        std::uint64_t rows = 0;
+        const Record& r = find(key + ".rows", sizeof rows);
+        expect_count(key + ".rows", r, 1);
+        std::memcpy(&rows, r.data, sizeof rows);
+        if (rows > (1u << 20)) fail("record '" + key + ".rows' holds " + std::to_string(rows) + " rows");
+        value.resize(rows);
+        for (std::size_t k = 0; k < rows; ++k) state((std::string(name) + "." + std::to_string(k)).c_str(), value[k]);
+      } else {
+        const Record& r = find(key, sizeof(E));
+        value.resize(r.count);
+        if (r.count > 0) std::memcpy(static_cast<void*>(value.data()), r.data, sizeof(E) * r.count);
+      }
+    } else {
+      const Record& r = find(key, sizeof(T));
+      expect_count(key, r, 1);
+      std::memcpy(static_cast<void*>(&value), r.data, sizeof(T));
+    }
+  }
+  template <class T>
+  void rebuilt(const char*, T&) {}
+  template <class M>
+  void model(const char* name, M& m) {
+    const std::string saved = prefix_;
+    prefix_ = saved + name + ".";
+    visit_model(m, *this);
+    prefix_ = saved;
+  }
+  std::string text(const std::string& name) {
+    const Record& r = find(name, 1);
+    return std::string(r.data, r.count);
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(path_ + ": damaged checkpoint: " + what);
+  }
+
+ private:
+  const Record& find(const std::string& name, std::size_t elem) const {
+    const auto it = records_.find(name);
+    if (it == records_.end()) fail("record '" + name + "' is missing");
+    if (it->second.elem != elem)
+      fail("record '" + name + "' has " + std::to_string(it->second.elem) + "-byte elements, expected " +
+           std::to_string(elem));
+    return it->second;
+  }
+  void expect_count(const std::string& name, const Record& r, std::size_t count) const {
+    if (r.count != count)
+      fail("record '" + name + "' has " + std::to_string(r.count) + " elements, expected " + std::to_string(count));
+  }
+
+  std::string path_;
+  std::map<std::string, Record> records_;
+  std::string prefix_;
+};
+
+void load_run(Reader& r, RunState& run) {
+  r.state("run.next_frame", run.next_frame);
+  r.state("run.next_probe", run.next_probe);
+  r.state("run.next_checkpoint", run.next_checkpoint);
+  r.state("run.max_error", run.max_error);
+  std::vector<double> times;
+  r.state("run.frame_times", times);
+  const std::string files = r.text("run.frame_files");
+  run.frames.clear();
+  std::size_t at = 0;
+  for (double t : times) {
+    const std::size_t end = files.find('\n', at);
+    if (end == std::string::npos) r.fail("fewer frame names than frame times");
+    run.frames.push_back({t, files.substr(at, end - at)});
+    at = end + 1;
+  }
+  if (at != files.size()) r.fail("more frame names than frame times");
+  run.last_frame = r.text("run.last_frame");
+  r.state("run.energy_bytes", run.energy_bytes);
+  r.state("run.probes_bytes", run.probes_bytes);
+  r.state("run.bodies_bytes", run.bodies_bytes);
+  r.state("run.energy_hash", run.energy_hash);
+  r.state("run.probes_hash", run.probes_hash);
+  r.state("run.bodies_hash", run.bodies_hash);
+}
+
+// ---- coverage -----------------------------------------------------------------------
+
+class Coverage {
+ public:
+  Coverage(const void* base, std::size_t size, std::size_t align, std::string what)
+      : base_(static_cast<const char*>(base)), size_(size), align_(align), what_(std::move(what)) {}
+
+  template <class T>
+  void state(const char* name, const T& member) { add(name, member); }
+  template <class T>
+  void rebuilt(const char* name, const T& member) { add(name, member); }
+  template <class M>
+  void model(const char* name, const M& member) { add(name, member); }
+
+  void gaps(std::vector<std::string>& out) {
+    std::sort(entries_.begin(), entries_.end(),
+              [](const Entry& a, const Entry& b) { return a.offset < b.offset; });
+    std::size_t end = 0;
+    std::string after = "(start)";
+    auto align_up = [](std::size_t x, std::size_t a) { return (x + a - 1) / a * a; };
+    for (const Entry& e : entries_) {
+      if (e.offset < end) {
+        out.push_back(what_ + ": '" + e.name + "' listed twice or overlapping '" + after + "'");
+      } else if (e.offset != align_up(end, e.align)) {
+        out.push_back(what_ + ": " + std::to_string(e.offset - end) + " bytes at offset " + std::to_string(end) +
+                      " after '" + after + "' are not in the checkpoint's member list");
+      }
+      end = std::max(end, e.offset + e.size);
+      after = e.name;
+    }
+    if (align_up(end, align_) != size_)
+      out.push_back(what_ + ": " + std::to_string(size_ - end) + " bytes at offset " + std::to_string(end) +
+                    " after '" + after + "' are not in the checkpoint's member list");
+  }
+
+ private:
+  struct Entry {
+    std::string name;
+    std::size_t offset, size, align;
+  };
+  template <class T>
+  void add(const char* name, const T& member) {
+    const auto offset = static_cast<std::size_t>(reinterpret_cast<const char*>(&member) - base_);
+    entries_.push_back({name, offset, sizeof(T), alignof(T)});
+  }
+  const char* base_;
+  std::size_t size_, align_;
+  std::string what_;
+  std::vector<Entry> entries_;
+};
+
+std::string error_text() { return std::strerror(errno); }
+
+void write_all(int fd, const std::string& data, const std::string& path) {
+  std::size_t done = 0;
+  while (done < data.size()) {
+    const ssize_t k = ::write(fd, data.data() + done, data.size() - done);
+    if (k < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error(path + ": cannot write checkpoint (" + error_text() + ")");
+    }
+    done += static_cast<std::size_t>(k);
+  }
+}
+
+}  // namespace
+
+std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t k = 0; k < size; ++k) {
+    h ^= p[k];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::uint64_t case_hash(const Case& c) {
+  if (!c.effective_toml.empty()) return fnv1a(c.effective_toml.data(), c.effective_toml.size());
+  const std::string id = c.name + '\n' + c.source;
+  return fnv1a(id.data(), id.size());
+}
+
+std::uint64_t lattice_hash(const Solver& s) {
+  const meshing::Lattice& l = s.lattice();
+  std::uint64_t h = fnv1a(nullptr, 0);
+  auto add = [&h](const auto& v) { h = fnv1a(v.data(), v.size() * sizeof(v[0]), h); };
+  add(l.x);
+  add(l.y);
+  add(l.radius);
+  add(l.body);
+  add(l.material);
+  add(l.bond_i);
+  add(l.bond_j);
+  add(l.cell_area);
+  return h;
+}
+
+void write_checkpoint(const std::string& path, const Solver& s, const RunState& run) {
+  Writer w;
+  CheckpointAccess::visit_solver(s, w);
+  save_run(w, run);
+  std::string out(kMagic, sizeof kMagic);
+  auto put = [&out](auto v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  put(kCheckpointVersion);
+  put(case_hash(s.case_data()));
+  put(lattice_hash(s));
+  put(static_cast<std::uint64_t>(w.names_.size()));
+  out += w.buf_;
+  put(fnv1a(out.data(), out.size()));
+
+  // Temporary file, fsync, rename, fsync of the folder: the old checkpoint stays valid
+  // until the new one is complete on disk.
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(tmp + ": cannot write checkpoint (" + error_text() + ")");
+  try {
+    write_all(fd, out, tmp);
+    if (::fsync(fd) != 0) throw std::runtime_error(tmp + ": cannot sync checkpoint (" + error_text() + ")");
+  } catch (...) {
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    throw;
+  }
+  if (::close(fd) != 0) {
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(tmp + ": cannot write checkpoint (" + error_text() + ")");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = error_text();
+    ::unlink(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the new checkpoint into place (" + why + ")");
+  }
+  std::string dir = fs::path(path).parent_path().string();
+  if (dir.empty()) dir = ".";
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open checkpoint");
+  std::ostringstream content;
+  content << in.rdbuf();
+  const std::string data = content.str();
+  constexpr std::size_t header = sizeof kMagic + 4 + 8 + 8 + 8;
+  if (data.size() < sizeof kMagic || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0)
+    throw InputError(path + ": not a hexdem checkpoint (no HEXDEMCK header)");
+  std::uint32_t version = 0;
+  if (data.size() >= sizeof kMagic + 4) std::memcpy(&version, data.data() + sizeof kMagic, 4);
+  if (data.size() >= sizeof kMagic + 4 && version != kCheckpointVersion)
+    throw InputError(path + ": checkpoint format version " + std::to_string(version) + ", this hexdem reads version " +
+                     std::to_string(kCheckpointVersion));
+  if (data.size() < header + 8) throw InputError(path + ": truncated checkpoint (" + std::to_string(data.size()) + " bytes)");
+  std::uint64_t checksum = 0;
+  std::memcpy(&checksum, data.data() + data.size() - 8, 8);
+  if (fnv1a(data.data(), data.size() - 8) != checksum)
+    throw InputError(path + ": damaged or truncated checkpoint (checksum mismatch)");
+  std::uint64_t chash = 0, lhash = 0, count = 0;
+  std::memcpy(&chash, data.data() + sizeof kMagic + 4, 8);
+  std::memcpy(&lhash, data.data() + sizeof kMagic + 12, 8);
+  std::memcpy(&count, data.data() + sizeof kMagic + 20, 8);
+  if (chash != case_hash(s.case_data()))
+    throw InputError(path + ": checkpoint of another case (the effective case differs from " + s.case_data().source +
+                     " with these --set values; restart with the case and overrides it was written with)");
+  if (lhash != lattice_hash(s))
+    throw InputError(path + ": checkpoint of another lattice than " + s.case_data().source + " meshes to");
+
+  std::map<std::string, Record> records;
+  std::size_t at = header;
+  const std::size_t end = data.size() - 8;
+  auto take = [&](std::size_t n) {
+    if (n > end - at) throw InputError(path + ": damaged checkpoint: record runs past the end of the file");
+    const char* p = data.data() + at;
+    at += n;
+    return p;
+  };
+  for (std::uint64_t k = 0; k < count; ++k) {
+    std::uint32_t len = 0, elem = 0;
+    std::uint64_t n = 0;
+    std::memcpy(&len, take(4), 4);
+    const std::string name(take(len), len);
+    std::memcpy(&elem, take(4), 4);
+    std::memcpy(&n, take(8), 8);
+    if (elem == 0 || n > (end - at) / elem)
+      throw InputError(path + ": damaged checkpoint: record '" + name + "' runs past the end of the file");
+    records[name] = {elem, static_cast<std::size_t>(n), take(static_cast<std::size_t>(elem * n))};
+  }
+  if (at != end) throw InputError(path + ": damaged checkpoint: " + std::to_string(end - at) + " bytes after the last record");
+
+  Reader r(path, std::move(records));
+  CheckpointAccess::visit_solver(s, r);
+  load_run(r, run);
+  // Every per-disk and per-bond vector must match the lattice the case meshes to.
+  const Model& m = s.model();
+  if (m.ux.size() != m.num_disks() || m.f_n.size() != m.num_bonds() || m.x0.size() != s.lattice().num_disks())
+    r.fail("disk or bond counts differ from the lattice");
+  CheckpointAccess::rebuild_broad_phase(s, path);
+}
+
+std::vector<std::string> checkpoint_coverage_gaps(const Solver& s) {
+  std::vector<std::string> out;
+  Coverage solver(&s, sizeof(Solver), alignof(Solver), "Solver");
+  CheckpointAccess::visit_solver(s, solver);
+  solver.gaps(out);
+  Coverage model(&s.model(), sizeof(Model), alignof(Model), "Model");
+  visit_model(s.model(), model);
+  model.gaps(out);
+  return out;
+}
+
+std::vector<std::string> checkpoint_record_names(const Solver& s) {
+  Writer w;
+  CheckpointAccess::visit_solver(s, w);
+  save_run(w, RunState{});
+  return w.names_;
+}
+
+}  // namespace hexdem::solver
