@@ -61,6 +61,7 @@ void visit_model(M& m, V& v) {
   v.state("wall_kx", m.wall_kx); v.state("wall_ky", m.wall_ky);
   v.state("wall_sx", m.wall_sx); v.state("wall_sy", m.wall_sy);
   v.state("minv_xx", m.minv_xx); v.state("minv_xy", m.minv_xy); v.state("minv_yy", m.minv_yy);
+  v.state("strain_ok", m.strain_ok);
   v.state("eps_xx", m.eps_xx); v.state("eps_yy", m.eps_yy); v.state("eps_xy", m.eps_xy);
   v.state("w_xx", m.w_xx); v.state("w_xy", m.w_xy); v.state("w_yx", m.w_yx); v.state("w_yy", m.w_yy);
   v.state("hoop_lambda", m.hoop_lambda); v.state("hoop_mu", m.hoop_mu);
@@ -82,6 +83,7 @@ void visit_model(M& m, V& v) {
   v.state("any_plastic", m.any_plastic);
   v.state("any_breakable", m.any_breakable);
   v.state("contact_damping", m.contact_damping);
+  v.state("contact_omega2", m.contact_omega2);
   v.state("time", m.time);
   v.state("f_yield", m.f_yield);
   v.state("kh_n", m.kh_n); v.state("kh_s", m.kh_s);
@@ -97,6 +99,10 @@ void visit_model(M& m, V& v) {
   v.state("contact_damping_work", m.contact_damping_work);
   v.state("friction_work", m.friction_work);
   v.state("newly_broken", m.newly_broken);
+  v.state("f_damp", m.f_damp);
+  v.rebuilt("fx_intact", m.fx_intact);  // work space of settle_broken_bonds
+  v.rebuilt("fy_intact", m.fy_intact);
+  v.rebuilt("torque_intact", m.torque_intact);
   // J2 disks
   v.state("any_j2", m.any_j2);
   v.state("j2_sigma_y", m.j2_sigma_y); v.state("j2_h", m.j2_h);
@@ -135,6 +141,10 @@ struct CheckpointAccess {
     v.state("dt_info", s.dt_info_);
     v.state("energy", s.energy_);
     v.rebuilt("blow_up", s.blow_up_);
+    v.state("last_checked", s.last_checked_);
+    v.state("last_checked_time", s.last_checked_time_);
+    v.state("max_energy_error", s.max_energy_error_);
+    v.state("energy_warning", s.energy_warning_);
     v.state("time", s.time_);
     v.state("step", s.step_);
     v.state("p_max", s.p_max_);
@@ -158,6 +168,7 @@ struct CheckpointAccess {
     v.rebuilt("detection_seconds", s.detection_seconds_);  // wall time of this process, not state
     v.state("wall_fn", s.wall_fn_);
     v.state("wall_fs", s.wall_fs_);
+    v.state("wall_fv", s.wall_fv_);
   }
 
   /// After the stored state is in place: the broad phase from the restored centres, and the
@@ -200,7 +211,9 @@ class Writer {
   template <class T>
   void state(const char* name, const T& value) {
     const std::string key = prefix_ + name;
-    if constexpr (is_vector<T>::value) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      raw(key, value.data(), 1, value.size());
+    } else if constexpr (is_vector<T>::value) {
       using E = typename T::value_type;
       if constexpr (is_vector<E>::value) {
         // A vector of vectors (per wall, per disk): the count, then each row.
@@ -284,7 +297,10 @@ class Reader {
   template <class T>
   void state(const char* name, T& value) {
     const std::string key = prefix_ + name;
-    if constexpr (is_vector<T>::value) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      const Record& r = find(key, 1);
+      value.assign(static_cast<const char*>(static_cast<const void*>(r.data)), r.count);
+    } else if constexpr (is_vector<T>::value) {
       using E = typename T::value_type;
       if constexpr (is_vector<E>::value) {
         std::uint64_t rows = 0;
