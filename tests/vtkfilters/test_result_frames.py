@@ -1,8 +1,9 @@
 """Result frames name their bodies and carry the lattice file's boundary sets, and ParaView
 can use them: a two-body case (data/two_bodies) is meshed (`hexdem mesh`) and run (`hexdem
 run`); in pvpython the frames' `body_names`, `boundary_sets` and set arrays are compared with
-the lattice file, a set is selected with Threshold, and the fragment counter leaves the
-projectile out when asked to count the target only.
+the lattice file, a set is selected with Threshold, the fragment counter leaves the
+projectile out when asked to count the target only, and the max shear filter does not warn
+about the missing p_max on every frame.
 
     pvpython test_result_frames.py HEXDEM DATA_DIR WORK_DIR [PLUGIN.so]
 """
@@ -14,7 +15,9 @@ import sys
 
 from paraview import servermanager
 from paraview import simple as pv
+from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.vtkConstants import VTK_STRING
 
 
 def check(condition, message):
@@ -87,6 +90,26 @@ def main():
     ids = vtk_to_numpy(out.GetPointData().GetArray("fragment_id"))
     bodies = vtk_to_numpy(out.GetPointData().GetArray("body"))
     check((ids[bodies == 1] == -1).all() and (ids[bodies == 0] == 0).all(), "fragment_id by body")
+    # Max shear on an impact series (no pressure load, no p_max): silent on every frame by
+    # default; one warning over the series when the ratio is asked for.
+    shear = pv.HexDEMMaxShearStress(Input=series)
+    warnings = []
+
+    @calldata_type(VTK_STRING)
+    def on_warning(obj, event, message):
+        warnings.append(message)
+
+    shear.GetClientSideObject().AddObserver("WarningEvent", on_warning)
+    for t in times:
+        shear.UpdatePipeline(t)
+        check(servermanager.Fetch(shear).GetPointData().GetArray("max_shear_ratio") is None, "ratio without p_max")
+    check(warnings == [], "warnings without a ratio asked for: %s" % warnings)
+    shear.RatioMode = "On"
+    for t in times + times:
+        shear.UpdatePipeline(t)
+    check(len(warnings) == 1 and "No peak pressure" in warnings[0],
+          "RatioMode On over %d frames: %d warnings %s" % (2 * len(times), len(warnings), warnings))
+
     print("OK: %d disks, sets %s, bodies %s" % (lattice.GetNumberOfPoints(), sets,
                                                   strings(lattice, "body_names")))
 
