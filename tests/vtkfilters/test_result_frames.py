@@ -110,6 +110,16 @@ def main():
     check(len(warnings) == 1 and "No peak pressure" in warnings[0],
           "RatioMode On over %d frames: %d warnings %s" % (2 * len(times), len(warnings), warnings))
 
+    # `hexdem post fragments`: the table's CSV names each fragment's body.
+    csv = os.path.join(work, "fragments")
+    run = subprocess.run([hexdem, "post", "fragments", os.path.join(work, "out", "two_bodies.pvd"),
+                          "-o", csv, "--csv-only", "-q"], capture_output=True, text=True)
+    check(run.returncode == 0, "hexdem post fragments: %s" % run.stderr)
+    with open(csv + ".csv") as f:
+        rows = [line.rstrip("\n").split(",") for line in f]
+    check(rows[0][-2:] == ["body", "body_name"], "CSV header %s" % rows[0])
+    check(sorted(r[-1] for r in rows[1:]) == ["projectile", "target"], "CSV body_name %s" % rows[1:])
+
     print("OK: %d disks, sets %s, bodies %s" % (lattice.GetNumberOfPoints(), sets,
                                                   strings(lattice, "body_names")))
 
