@@ -14,8 +14,8 @@ and prints how to open it in the GUI:
 
 - *Disks*: HexDEM Max Shear Stress on the series, Point Gaussian splats of radius `radius`
   (plain circles), coloured by max_shear_ratio (max_shear [Pa] without p_max); the colour range
-  is the data range at the shown time and then grows with every time step (never fixed to the
-  round-off of t = 0).
+  is 0 to the largest value over the series and grows with the time steps after that (never
+  fixed to the zeros or round-off of t = 0).
 - *Cracks*: HexDEM Crack Map, lines coloured by the categorical `mode`: tension red, shear
   blue, compression green (the figure scripts' colours), drawn above the disks.
 - *Fragments*: HexDEM Fragment Counter (of one body with --body), Point Gaussian coloured by
@@ -69,6 +69,14 @@ def parse(argv):
     return args
 
 
+def series_times(reader):
+    """The times of a series' frames ([0] for a single frame)."""
+    values = getattr(reader, "TimestepValues", None)
+    if values is None:
+        return [0.0]
+    return [float(values)] if isinstance(values, (int, float)) else (list(values) or [0.0])
+
+
 def show_disks(pv, source, view, r_max):
     disks = fc.show_disks(pv, source, view, r_max)
     disks.SetScalarBarVisibility(view, True)
@@ -86,6 +94,12 @@ def main(argv):
         sys.exit(2 if e.code == 1 else e.code)
     if data.GetCellData().GetArray("state") is None:
         error("'%s' has no 'state' cell array (not a hexdem result frame?)" % args.input)
+    if args.body:
+        names = data.GetFieldData().GetAbstractArray("body_names")
+        known = [names.GetValue(k) for k in range(names.GetNumberOfValues())] if names else []
+        if args.body not in known:
+            error("--body: '%s' has no body '%s' (bodies: %s)" % (
+                args.input, args.body, ", ".join(known) if known else "no body_names field data"))
     pv.RenameSource(os.path.basename(args.input), reader)
     r_max = data.GetPointData().GetArray("radius").GetRange()[1]
 
@@ -104,9 +118,15 @@ def main(argv):
     pv.ColorBy(disks, ("POINTS", array))
     lut = pv.GetColorTransferFunction(array)
     lut.ApplyPreset("Turbo", True)
-    low, high = out.GetPointData().GetArray(array).GetRange()
-    # The range of the shown frame, growing with every time step: a frame at t = 0 holds
-    # round-off only, and ParaView's default keeps the first range it saw.
+    # The range: 0 to the largest value over the whole series (from ParaView's data
+    # information, one pipeline update per frame), growing with the time steps after that. A
+    # frame at t = 0 holds zeros or round-off only, and ParaView's default keeps the first
+    # range it saw.
+    high = 0.0
+    for t in series_times(reader):
+        shear.UpdatePipeline(t)
+        high = max(high, shear.PointData[array].GetRange()[1])
+    shear.UpdatePipeline(time)
     lut.RescaleTransferFunction(0.0, high if high > 0 else 1.0)
     lut.AutomaticRescaleRangeMode = "Grow and update every timestep"
     fc.style_scalar_bar(pv, lut, view, "tau_max / p_max" if array == "max_shear_ratio" else "tau_max [Pa]")
@@ -134,11 +154,6 @@ def main(argv):
     pv.RenameSource("Fragments", fragments)
     if args.body:
         fragments.BodyName = args.body
-        names = data.GetFieldData().GetAbstractArray("body_names")
-        known = [names.GetValue(k) for k in range(names.GetNumberOfValues())] if names else []
-        if args.body not in known:
-            error("--body: '%s' has no body '%s' (bodies: %s)" % (
-                args.input, args.body, ", ".join(known) if known else "no body_names field data"))
     pieces = pv.Show(fragments, view)
     pieces.SetRepresentationType("Point Gaussian")
     pieces.ShaderPreset = "Plain circle"
