@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages hexdem needs to build, test and render (idempotent).
-# Usage: scripts/setup-deps.sh        (as root, or with sudo available)
+# Usage: scripts/setup-deps.sh          (as root, or with sudo available)
+#        scripts/setup-deps.sh --check  (installs nothing: lists the missing packages, exit 1 if any)
 set -euo pipefail
 
 # libopenmpi-dev: ParaView's CMake package checks MPI headers at configure time.
 # calculix-ccx: the finite-element reference of cases/narrow_plate (ctest case_narrow_plate_calculix).
+# paraview: the GUI the README opens results in; libqt5svg5: without it the GUI's toolbar icons
+# (SVG) are blank.
 packages=(
   build-essential cmake ninja-build git pkg-config
-  paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth
+  paraview paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth libqt5svg5
   libcgal-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev
   python3-ezdxf python3-matplotlib clang-format time calculix-ccx
@@ -23,6 +26,11 @@ done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "hexdem: all build dependencies present"
   exit 0
+fi
+
+if [ "${1:-}" = "--check" ]; then
+  echo "hexdem: missing ${missing[*]}"
+  exit 1
 fi
 
 echo "hexdem: installing ${missing[*]}"

@@ -39,6 +39,49 @@ void csv_number(std::ostream& o, double v) {
   o << buf;
 }
 
+/// Names of the point arrays of a frame (a boundary set of one of these names is written
+/// as `set_<name>`, so that it cannot replace the frame's own array).
+bool is_frame_array(const std::string& name) {
+  static const char* const names[] = {"radius",   "kind",         "body",     "material",
+                                      "mass",     "cell_area",    "ring_radius", "displacement",
+                                      "velocity", "rotation",     "spin",     "stress",
+                                      "damage",   "plastic_strain"};
+  for (const char* n : names) {
+    if (name == n) return true;
+  }
+  return name.rfind("set_", 0) == 0;
+}
+
+/// What the lattice file has and a frame needs to name bodies and select sets: the field data
+/// `body_names` and `boundary_sets` (the point array of each set, in set order) and one UInt8
+/// point array per boundary set, 1 for its members (docs/file-format.md). Filled on demand
+/// from the lattice's compressed set rows: no per-frame copies.
+void add_bodies_and_sets(const meshing::Lattice& lattice, io::LineGrid& g) {
+  if (!lattice.body_names.empty()) g.field_data.push_back({"body_names", {}, {}, lattice.body_names});
+  std::vector<std::string> set_arrays;
+  const std::size_t n = lattice.num_disks();
+  for (std::size_t s = 0; s < lattice.num_sets(); ++s) {
+    const std::string& name = lattice.set_names[s];
+    set_arrays.push_back(is_frame_array(name) ? "set_" + name : name);
+    io::ArraySource a;
+    a.name = set_arrays.back();
+    a.type = io::ScalarType::UInt8;
+    a.tuples = n;
+    const std::int32_t* first_member = lattice.set_disk.data() + lattice.set_offset[s];
+    const std::int32_t* end_member = lattice.set_disk.data() + lattice.set_offset[s + 1];
+    a.fill = [first_member, end_member](std::size_t first, std::size_t count, void* out) {
+      auto* o = static_cast<std::uint8_t*>(out);
+      std::fill(o, o + count, std::uint8_t{0});
+      // Members are ascending within a set (lattice.hpp).
+      const auto lo = std::lower_bound(first_member, end_member, static_cast<std::int32_t>(first));
+      for (auto it = lo; it != end_member && static_cast<std::size_t>(*it) < first + count; ++it)
+        o[static_cast<std::size_t>(*it) - first] = 1;
+    };
+    g.point_data.push_back(std::move(a));
+  }
+  if (!set_arrays.empty()) g.field_data.push_back({"boundary_sets", {}, {}, set_arrays});
+}
+
 }  // namespace
 
 io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts) {
@@ -171,6 +214,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   g.field_data.push_back({"geometry", {}, geometry_name(m.geometry), {}});
   g.field_data.push_back({"thickness", {m.thickness}, {}, {}});
   if (solver.p_max() > 0) g.field_data.push_back({"p_max", {solver.p_max()}, {}, {}});
+  add_bodies_and_sets(solver.lattice(), g);
   return g;
 }
 

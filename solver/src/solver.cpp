@@ -16,6 +16,7 @@
 #include "hexdem/error.hpp"
 #include "hexdem/laws/contact.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/solver/boundary_checks.hpp"
 
 namespace hexdem::solver {
 namespace {
@@ -39,6 +40,7 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
 }
 
 Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), lattice_(lattice) {
+  check_symmetry_planes(case_, lattice_);
   setup_materials();
   model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;

@@ -10,6 +10,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -184,12 +185,131 @@ TEST(FragmentCounter, MissingMassGivesNaNColumnsAndAWarning) {
   EXPECT_FALSE(std::isnan(column(filter->GetTableOutput(), "centroid_x", 0)));
 }
 
+/// The cut lattice with its top-right fragment (region 0, 36 disks) as a second body,
+/// "projectile", and the rest as "target"; body_names as the solver writes it.
+vtkSmartPointer<vtkUnstructuredGrid> two_bodies(const CutLattice& cut, bool names = true) {
+  auto frame = make_frame(cut.lattice, cut.data);
+  vtkDataArray* body = frame->GetPointData()->GetArray("body");
+  for (std::int64_t k = 0; k < cut.lattice.disks(); ++k) body->SetComponent(k, 0, cut.region(k) == 0 ? 1 : 0);
+  if (names) {
+    vtkNew<vtkStringArray> body_names;
+    body_names->SetName("body_names");
+    body_names->InsertNextValue("target");
+    body_names->InsertNextValue("projectile");
+    frame->GetFieldData()->AddArray(body_names);
+  }
+  return frame;
+}
+
+TEST(FragmentCounter, TableNamesTheBodyOfEveryFragment) {
+  CutLattice cut;
+  vtkNew<vtkHexDEMFragmentCounter> filter;
+  filter->SetInputData(two_bodies(cut));
+  filter->Update();
+  vtkTable* table = filter->GetTableOutput();
+  ASSERT_EQ(table->GetNumberOfRows(), 5);
+  ASSERT_NE(table->GetColumnByName("body"), nullptr);
+  ASSERT_NE(table->GetColumnByName("body_name"), nullptr);
+  EXPECT_EQ(column(table, "disks", 0), 36);
+  EXPECT_EQ(column(table, "body", 0), 1);
+  EXPECT_EQ(table->GetValueByName(0, "body_name").ToString(), "projectile");
+  for (vtkIdType row = 1; row < 5; ++row) {
+    EXPECT_EQ(column(table, "body", row), 0) << row;
+    EXPECT_EQ(table->GetValueByName(row, "body_name").ToString(), "target") << row;
+  }
+  // Without body_names (frames of other tools): no body columns, the table as before.
+  filter->SetInputData(two_bodies(cut, false));
+  filter->Update();
+  EXPECT_EQ(filter->GetTableOutput()->GetColumnByName("body"), nullptr);
+  EXPECT_EQ(filter->GetTableOutput()->GetColumnByName("body_name"), nullptr);
+  EXPECT_EQ(filter->GetTableOutput()->GetNumberOfColumns(), 9);
+}
+
+TEST(FragmentCounter, BodySelectionLeavesTheProjectileOut) {
+  CutLattice cut;
+  auto frame = two_bodies(cut);
+  vtkNew<vtkHexDEMFragmentCounter> filter;
+  MessageLog log(filter);
+  filter->SetInputData(frame);
+  filter->SetBodyName("target");
+  filter->Update();
+  vtkUnstructuredGrid* out = filter->GetOutput();
+  EXPECT_EQ(field(out->GetFieldData(), "fragment_count"), 4);
+  EXPECT_EQ(field(out->GetFieldData(), "fragment_count_total"), 4);
+  EXPECT_EQ(field(out->GetFieldData(), "single_disk_fragments"), 1);
+  vtkTable* table = filter->GetTableOutput();
+  ASSERT_EQ(table->GetNumberOfRows(), 4);
+  EXPECT_EQ(column(table, "disks", 0), 35);  // the target's largest piece is fragment 0
+  EXPECT_EQ(column(table, "disks", 3), 1);
+  vtkDataArray* ids = out->GetPointData()->GetArray("fragment_id");
+  vtkDataArray* sizes = out->GetPointData()->GetArray("fragment_disks");
+  for (std::int64_t k = 0; k < cut.lattice.disks(); ++k) {
+    if (cut.region(k) == 0) {
+      EXPECT_EQ(ids->GetComponent(k, 0), -1) << k;
+      EXPECT_EQ(sizes->GetComponent(k, 0), 0) << k;
+    } else {
+      EXPECT_GE(ids->GetComponent(k, 0), 0) << k;
+    }
+  }
+  // The same by index; and the projectile alone.
+  filter->SetBodyName(nullptr);
+  filter->SetBody(0);
+  filter->Update();
+  EXPECT_EQ(field(filter->GetOutput()->GetFieldData(), "fragment_count"), 4);
+  filter->SetBody(1);
+  filter->Update();
+  EXPECT_EQ(field(filter->GetOutput()->GetFieldData(), "fragment_count"), 1);
+  EXPECT_EQ(column(filter->GetTableOutput(), "disks", 0), 36);
+  EXPECT_TRUE(log.errors.empty());
+}
+
+TEST(FragmentCounter, UnknownBodyNameIsAnErrorNamingTheBodies) {
+  CutLattice cut;
+  vtkNew<vtkHexDEMFragmentCounter> filter;
+  MessageLog log(filter);
+  filter->SetInputData(two_bodies(cut));
+  filter->SetBodyName("nose");
+  filter->Update();
+  EXPECT_TRUE(log.has_error("no body named 'nose' (bodies: target, projectile)"))
+      << (log.errors.empty() ? "" : log.errors[0]);
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfPoints(), 0);
+  // A body selection without a 'body' array.
+  auto frame = two_bodies(cut);
+  frame->GetPointData()->RemoveArray("body");
+  filter->SetInputData(frame);
+  filter->SetBodyName(nullptr);
+  filter->SetBody(0);
+  filter->Update();
+  EXPECT_TRUE(log.has_error("needs the 'body' point array"));
+}
+
+TEST(FragmentCounter, FragmentDisksSeparatesSingleDiskDebris) {
+  CutLattice cut;
+  vtkNew<vtkHexDEMFragmentCounter> filter;
+  filter->SetInputData(make_frame(cut.lattice, cut.data));
+  filter->Update();
+  vtkUnstructuredGrid* out = filter->GetOutput();
+  vtkDataArray* sizes = out->GetPointData()->GetArray("fragment_disks");
+  ASSERT_NE(sizes, nullptr);
+  const int expected[] = {36, 35, 24, 24, 1};
+  for (std::int64_t k = 0; k < cut.lattice.disks(); ++k) {
+    EXPECT_EQ(sizes->GetComponent(k, 0), expected[cut.region(k)]) << k;
+  }
+  EXPECT_EQ(field(out->GetFieldData(), "single_disk_fragments"), 1);
+  EXPECT_EQ(field(filter->GetTableOutput()->GetFieldData(), "single_disk_fragments"), 1);
+  // ParaView colours by the active scalars when the output is first shown.
+  ASSERT_NE(out->GetPointData()->GetScalars(), nullptr);
+  EXPECT_STREQ(out->GetPointData()->GetScalars()->GetName(), "fragment_id");
+}
+
 TEST(FragmentCounter, PrintSelfListsProperties) {
   vtkNew<vtkHexDEMFragmentCounter> filter;
   filter->SetMinimumDisks(7);
   std::ostringstream os;
   filter->Print(os);
   EXPECT_NE(os.str().find("MinimumDisks: 7"), std::string::npos);
+  EXPECT_NE(os.str().find("Body: -1"), std::string::npos);
+  EXPECT_NE(os.str().find("BodyName: (none)"), std::string::npos);
   filter->SetMinimumDisks(0);  // clamped
   EXPECT_EQ(filter->GetMinimumDisks(), 1);
 }

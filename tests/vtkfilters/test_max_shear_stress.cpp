@@ -126,17 +126,60 @@ TEST(MaxShearStress, PMaxPropertyOverridesFieldData) {
   EXPECT_NEAR(point_array(filter->GetOutput(), "max_shear_ratio")->GetComponent(2, 0), 0.25, 1e-14);
 }
 
-TEST(MaxShearStress, WithoutPMaxWarnsAndMakesNoRatio) {
+TEST(MaxShearStress, WithoutPMaxAutomaticIsSilentAndMakesNoRatio) {
+  // An impact case has no p_max: by default no ratio and no warning, on any frame.
   auto frame =
       four_disks({tensor(1, 0, 0), tensor(1, 0, 0), tensor(1, 0, 0), tensor(1, 0, 0)}, 0.0);
   vtkNew<vtkHexDEMMaxShearStress> filter;
   MessageLog log(filter);
   filter->SetInputData(frame);
-  filter->Update();
-  EXPECT_NE(point_array(filter->GetOutput(), "max_shear"), nullptr);
-  EXPECT_EQ(point_array(filter->GetOutput(), "max_shear_ratio"), nullptr);
-  EXPECT_TRUE(log.has_warning("p_max")) << (log.warnings.empty() ? "" : log.warnings[0]);
+  for (int frame_index = 0; frame_index < 3; ++frame_index) {
+    frame->Modified();  // the next frame of a series
+    filter->Update();
+    EXPECT_NE(point_array(filter->GetOutput(), "max_shear"), nullptr);
+    EXPECT_EQ(point_array(filter->GetOutput(), "max_shear_ratio"), nullptr);
+    EXPECT_STREQ(filter->GetOutput()->GetPointData()->GetScalars()->GetName(), "max_shear");
+  }
+  EXPECT_TRUE(log.warnings.empty()) << log.warnings[0];
   EXPECT_TRUE(log.errors.empty());
+}
+
+TEST(MaxShearStress, RatioOnWithoutPMaxWarnsOnceUntilAPropertyChanges) {
+  auto frame =
+      four_disks({tensor(1, 0, 0), tensor(1, 0, 0), tensor(1, 0, 0), tensor(1, 0, 0)}, 0.0);
+  vtkNew<vtkHexDEMMaxShearStress> filter;
+  MessageLog log(filter);
+  filter->SetInputData(frame);
+  filter->SetRatioMode(vtkHexDEMMaxShearStress::RATIO_ON);
+  for (int frame_index = 0; frame_index < 5; ++frame_index) {
+    frame->Modified();  // every frame of a series re-executes the filter
+    filter->Update();
+    EXPECT_EQ(point_array(filter->GetOutput(), "max_shear_ratio"), nullptr);
+  }
+  ASSERT_EQ(log.warnings.size(), 1u);
+  EXPECT_TRUE(log.has_warning("No peak pressure")) << log.warnings[0];
+  // A changed setting that still leaves no p_max is worth one more warning.
+  filter->SetComputeThreeDimensional(1);
+  filter->Update();
+  frame->Modified();
+  filter->Update();
+  EXPECT_EQ(log.warnings.size(), 2u);
+  EXPECT_TRUE(log.errors.empty());
+}
+
+TEST(MaxShearStress, RatioOffMakesNoRatioEvenWithPMax) {
+  auto frame =
+      four_disks({tensor(1, 0, 0), tensor(1, 0, 0), tensor(1, 0, 0), tensor(1, 0, 0)}, 100.0);
+  vtkNew<vtkHexDEMMaxShearStress> filter;
+  MessageLog log(filter);
+  filter->SetInputData(frame);
+  filter->Update();
+  EXPECT_NE(point_array(filter->GetOutput(), "max_shear_ratio"), nullptr);
+  filter->SetRatioMode(vtkHexDEMMaxShearStress::RATIO_OFF);
+  filter->Update();
+  EXPECT_EQ(point_array(filter->GetOutput(), "max_shear_ratio"), nullptr);
+  EXPECT_NE(point_array(filter->GetOutput(), "max_shear"), nullptr);
+  EXPECT_TRUE(log.warnings.empty());
 }
 
 TEST(MaxShearStress, AcceptsFloat32Stress) {
@@ -310,7 +353,8 @@ TEST(MaxShearStress, PrintSelfListsProperties) {
   filter->Print(os);
   const std::string text = os.str();
   for (const char* key :
-       {"StressSource: BondForces", "ComputeThreeDimensional: Off", "PMax: 3.5", "Thickness: 0"}) {
+       {"StressSource: BondForces", "ComputeThreeDimensional: Off", "RatioMode: Automatic", "PMax: 3.5",
+        "Thickness: 0"}) {
     EXPECT_NE(text.find(key), std::string::npos) << key;
   }
 }

@@ -16,6 +16,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
+#include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -81,11 +82,12 @@ void SetCount(vtkFieldData* fd, const char* name, vtkIdType value) {
 
 }  // namespace
 
-vtkHexDEMFragmentCounter::vtkHexDEMFragmentCounter() : MinimumDisks(1) {
+vtkHexDEMFragmentCounter::vtkHexDEMFragmentCounter()
+    : MinimumDisks(1), Body(-1), BodyName(nullptr) {
   this->SetNumberOfOutputPorts(2);
 }
 
-vtkHexDEMFragmentCounter::~vtkHexDEMFragmentCounter() = default;
+vtkHexDEMFragmentCounter::~vtkHexDEMFragmentCounter() { this->SetBodyName(nullptr); }
 
 vtkTable* vtkHexDEMFragmentCounter::GetTableOutput() {
   return vtkTable::SafeDownCast(this->GetOutputDataObject(1));
@@ -171,6 +173,38 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
                                         << " point array: the table columns that need it are NaN.");
   }
 
+  // Bodies: the `body` point array (optional without a body selection) and their names.
+  IntValues bodies;
+  vtkDataArray* bodyArray = inPD->GetArray("body");
+  if (bodyArray && !bodies.Load(bodyArray, numDisks, "'body' point", error)) {
+    vtkErrorMacro("Bad input: " << error << ".");
+    return 0;
+  }
+  const int* body = bodyArray ? bodies.Data() : nullptr;
+  vtkStringArray* bodyNames =
+      vtkStringArray::SafeDownCast(input->GetFieldData()->GetAbstractArray("body_names"));
+  int selectedBody = this->Body;
+  if (this->BodyName && this->BodyName[0] != '\0') {
+    selectedBody = -1;
+    std::string known;
+    for (vtkIdType b = 0; bodyNames && b < bodyNames->GetNumberOfValues(); ++b) {
+      if (bodyNames->GetValue(b) == this->BodyName) {
+        selectedBody = static_cast<int>(b);
+      }
+      known += std::string(known.empty() ? "" : ", ") + bodyNames->GetValue(b);
+    }
+    if (selectedBody < 0) {
+      vtkErrorMacro("Bad input: the frame has no body named '"
+                    << this->BodyName << "' (bodies: "
+                    << (bodyNames ? known : std::string("no 'body_names' field data")) << ").");
+      return 0;
+    }
+  }
+  if (selectedBody >= 0 && !body) {
+    vtkErrorMacro("Bad input: a body selection needs the 'body' point array.");
+    return 0;
+  }
+
   // Connected components over intact bonds.
   DisjointSets sets(numDisks);
   const std::uint8_t* st = state.Data();
@@ -197,15 +231,38 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
     }
     ++size[static_cast<std::size_t>(component[static_cast<std::size_t>(i)])];
   }
-  const vtkIdType numFragments = static_cast<vtkIdType>(size.size());
-  std::vector<vtkIdType> order(static_cast<std::size_t>(numFragments));
-  std::iota(order.begin(), order.end(), vtkIdType(0));
+  // Each component's body: that of its lowest disk (-1 if its disks disagree, or no `body`).
+  const std::size_t numComponents = size.size();
+  std::vector<int> componentBody(numComponents, -1);
+  if (body) {
+    std::vector<char> seen(numComponents, 0);
+    for (vtkIdType i = 0; i < numDisks; ++i) {
+      const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(i)]);
+      if (!seen[c]) {
+        seen[c] = 1;
+        componentBody[c] = body[i];
+      } else if (componentBody[c] != body[i]) {
+        componentBody[c] = -1;
+      }
+    }
+  }
+  // The fragments: the components of the selected body (all without a selection), by size.
+  std::vector<vtkIdType> order;
+  order.reserve(numComponents);
+  for (std::size_t c = 0; c < numComponents; ++c) {
+    if (selectedBody < 0 || componentBody[c] == selectedBody) {
+      order.push_back(static_cast<vtkIdType>(c));
+    }
+  }
+  const vtkIdType numFragments = static_cast<vtkIdType>(order.size());
   std::stable_sort(order.begin(), order.end(), [&](vtkIdType a, vtkIdType b) {
     return size[static_cast<std::size_t>(a)] > size[static_cast<std::size_t>(b)];
   });
-  std::vector<vtkIdType> rank(static_cast<std::size_t>(numFragments));
+  std::vector<vtkIdType> rank(numComponents, -1);  // -1: not a fragment of the selection
+  vtkIdType singleDisk = 0;
   for (vtkIdType k = 0; k < numFragments; ++k) {
     rank[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] = k;
+    singleDisk += size[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])] == 1;
   }
   vtkIdType counted = 0;
   while (counted < numFragments &&
@@ -217,6 +274,8 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
   // fragment_id and the per-fragment sums of the counted fragments.
   auto fragmentId = NewColumn<vtkIntArray>("fragment_id", numDisks);
   int* ids = fragmentId->GetPointer(0);
+  auto fragmentDisks = NewColumn<vtkIntArray>("fragment_disks", numDisks);
+  int* disksOf = fragmentDisks->GetPointer(0);
   const std::size_t n = static_cast<std::size_t>(counted);
   std::vector<double> sumMass(n, 0.0), sumArea(n, 0.0), sumAx(n, 0.0), sumAy(n, 0.0),
       sumMvx(n, 0.0), sumMvy(n, 0.0);
@@ -225,9 +284,11 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
   const double* a = hasArea ? area.Data() : nullptr;
   const double* v = hasVelocity ? velocity.Data() : nullptr;
   for (vtkIdType i = 0; i < numDisks; ++i) {
-    const vtkIdType f = rank[static_cast<std::size_t>(component[static_cast<std::size_t>(i)])];
+    const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(i)]);
+    const vtkIdType f = rank[c];
     ids[i] = static_cast<int>(f);
-    if (f >= counted) {
+    disksOf[i] = f < 0 ? 0 : static_cast<int>(size[c]);
+    if (f < 0 || f >= counted) {
       continue;
     }
     const auto k = static_cast<std::size_t>(f);
@@ -247,8 +308,11 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
 
   output->ShallowCopy(input);
   output->GetPointData()->AddArray(fragmentId);
+  output->GetPointData()->AddArray(fragmentDisks);
+  output->GetPointData()->SetActiveScalars("fragment_id");
   SetCount(output->GetFieldData(), "fragment_count", counted);
   SetCount(output->GetFieldData(), "fragment_count_total", numFragments);
+  SetCount(output->GetFieldData(), "single_disk_fragments", singleDisk);
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
   auto colId = NewColumn<vtkIntArray>("fragment_id", counted);
@@ -260,8 +324,23 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
   auto colVx = NewColumn<vtkDoubleArray>("velocity_x", counted);
   auto colVy = NewColumn<vtkDoubleArray>("velocity_y", counted);
   auto colD = NewColumn<vtkDoubleArray>("equivalent_diameter", counted);
+  vtkSmartPointer<vtkIntArray> colBody;
+  vtkSmartPointer<vtkStringArray> colBodyName;
+  if (body && bodyNames) {
+    colBody = NewColumn<vtkIntArray>("body", counted);
+    colBodyName = NewColumn<vtkStringArray>("body_name", counted);
+  }
   for (vtkIdType f = 0; f < counted; ++f) {
     const auto k = static_cast<std::size_t>(f);
+    if (colBody) {
+      const int b = componentBody[static_cast<std::size_t>(order[k])];
+      colBody->SetValue(f, b);
+      if (colBodyName) {
+        colBodyName->SetValue(f, b >= 0 && b < bodyNames->GetNumberOfValues()
+                                     ? bodyNames->GetValue(b)
+                                     : vtkStdString());
+      }
+    }
     const double fm = m ? sumMass[k] : nan;
     const double fa = a ? sumArea[k] : nan;
     colId->SetValue(f, static_cast<int>(f));
@@ -283,9 +362,16 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
   table->AddColumn(colVx);
   table->AddColumn(colVy);
   table->AddColumn(colD);
+  if (colBody) {
+    table->AddColumn(colBody);
+  }
+  if (colBodyName) {
+    table->AddColumn(colBodyName);
+  }
   vtkFieldData* tableFd = table->GetFieldData();
   SetCount(tableFd, "fragment_count", counted);
   SetCount(tableFd, "fragment_count_total", numFragments);
+  SetCount(tableFd, "single_disk_fragments", singleDisk);
   for (const char* name : {"time", "step"}) {
     if (vtkAbstractArray* array = input->GetFieldData()->GetAbstractArray(name)) {
       tableFd->AddArray(array);
@@ -297,4 +383,6 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
 void vtkHexDEMFragmentCounter::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "MinimumDisks: " << this->MinimumDisks << "\n";
+  os << indent << "Body: " << this->Body << "\n";
+  os << indent << "BodyName: " << (this->BodyName ? this->BodyName : "(none)") << "\n";
 }

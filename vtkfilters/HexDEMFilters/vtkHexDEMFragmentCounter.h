@@ -23,9 +23,22 @@
  * fragment_id, which is always >= fragment_count since ids follow size, but are neither
  * counted in `fragment_count` nor listed in the table.
  *
- * Only `state` is required. Without `mass`, `cell_area` or `velocity` the columns that need
- * them are NaN and the filter warns. A missing or malformed `state` array is reported with
- * vtkErrorMacro and gives empty outputs.
+ * Every disk also gets `fragment_disks` (Int32), the number of disks of its fragment: single-
+ * disk debris is `fragment_disks == 1` (e.g. ParaView's Threshold on it), and the field data
+ * `single_disk_fragments` counts it. When the frame names its bodies (point array `body` and
+ * field data `body_names`, as every hexdem result frame), the table has the columns `body`
+ * (the fragment's body index; bonds join disks of one body, -1 if its disks disagree) and
+ * `body_name`.
+ *
+ * Body selection: with Body >= 0 (an index) or a non-empty BodyName (a name of the
+ * `body_names` field data), only the fragments of that body are labelled, counted and listed,
+ * so that a projectile is not counted as a fragment of its target; the other disks get
+ * fragment_id = -1 and fragment_disks = 0. BodyName takes precedence over Body.
+ *
+ * Only `state` is required (and `body`, `body_names` for a body selection). Without `mass`,
+ * `cell_area` or `velocity` the columns that need them are NaN and the filter warns. A
+ * missing or malformed `state` array, or a body that the frame does not have, is reported
+ * with vtkErrorMacro and gives empty outputs.
  */
 
 #ifndef vtkHexDEMFragmentCounter_h
@@ -53,6 +66,24 @@ class HEXDEMFILTERSCORE_EXPORT vtkHexDEMFragmentCounter : public vtkUnstructured
   vtkGetMacro(MinimumDisks, int);
   ///@}
 
+  ///@{
+  /**
+   * Only the fragments of this body (index into the frame's bodies, point array `body`);
+   * -1 (default): every body.
+   */
+  vtkSetClampMacro(Body, int, -1, VTK_INT_MAX);
+  vtkGetMacro(Body, int);
+  ///@}
+
+  ///@{
+  /**
+   * Only the fragments of the body of this name (field data `body_names`); empty (default):
+   * use Body. Takes precedence over Body.
+   */
+  vtkSetStringMacro(BodyName);
+  vtkGetStringMacro(BodyName);
+  ///@}
+
   /**
    * The fragment table (output port 1).
    */
@@ -67,6 +98,8 @@ class HEXDEMFILTERSCORE_EXPORT vtkHexDEMFragmentCounter : public vtkUnstructured
                   vtkInformationVector* outputVector) override;
 
   int MinimumDisks;
+  int Body;
+  char* BodyName;
 
  private:
   vtkHexDEMFragmentCounter(const vtkHexDEMFragmentCounter&) = delete;

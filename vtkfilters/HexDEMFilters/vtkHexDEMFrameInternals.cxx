@@ -10,7 +10,9 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vtkHexDEMInternals {
 namespace {
@@ -120,6 +122,22 @@ bool ByteValues::Load(vtkDataArray* array, vtkIdType tuples, const std::string& 
     }
   }
   this->Pointer = this->Copy.data();
+  return true;
+}
+
+bool IntValues::Load(vtkDataArray* array, vtkIdType tuples, const std::string& what,
+                     std::string& error) {
+  this->Copy.clear();
+  if (!CheckShape(array, 1, tuples, what, error)) {
+    return false;
+  }
+  this->Copy.resize(static_cast<std::size_t>(std::max<vtkIdType>(tuples, 1)), -1);
+  for (vtkIdType k = 0; k < tuples; ++k) {
+    const double v = array->GetComponent(k, 0);
+    const bool integer = v == std::floor(v) && v >= std::numeric_limits<int>::min() &&
+                         v <= std::numeric_limits<int>::max();
+    this->Copy[static_cast<std::size_t>(k)] = integer ? static_cast<int>(v) : -1;
+  }
   return true;
 }
 

@@ -73,6 +73,18 @@ class ByteValues {
   std::vector<std::uint8_t> Copy;
 };
 
+/// The values of an integer-valued array (body) as int: values that are not an integer in
+/// int's range become -1.
+class IntValues {
+ public:
+  /// As DoubleValues::Load, for one-component arrays.
+  bool Load(vtkDataArray* array, vtkIdType tuples, const std::string& what, std::string& error);
+  const int* Data() const { return this->Copy.data(); }
+
+ private:
+  std::vector<int> Copy;
+};
+
 /// The two point ids of every cell of a grid made of two-point line cells (bonds and
 /// contacts). Points into the grid's cell array, which must outlive this object.
 class LineCells {

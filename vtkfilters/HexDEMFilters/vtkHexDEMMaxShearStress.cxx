@@ -104,7 +104,12 @@ vtkSmartPointer<vtkDoubleArray> NewPointArray(const char* name, vtkIdType n, int
 }  // namespace
 
 vtkHexDEMMaxShearStress::vtkHexDEMMaxShearStress()
-    : StressSource(STRESS_AUTOMATIC), ComputeThreeDimensional(0), PMax(0.0), Thickness(0.0) {}
+    : StressSource(STRESS_AUTOMATIC),
+      ComputeThreeDimensional(0),
+      PMax(0.0),
+      Thickness(0.0),
+      RatioMode(RATIO_AUTOMATIC),
+      NoPMaxWarningTime(0) {}
 
 vtkHexDEMMaxShearStress::~vtkHexDEMMaxShearStress() = default;
 
@@ -263,16 +268,24 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
   }
   const double* stressData = recover ? recovered.data() : stress.Data();
 
-  // p_max: the property overrides the field data.
-  double pMax = this->PMax;
-  if (!(pMax > 0)) {
-    bool found = false;
-    pMax = FieldNumber(input->GetFieldData(), "p_max", found);
-    if (!found || !(pMax > 0)) {
-      pMax = 0.0;
-      vtkWarningMacro(
-          "No peak pressure: the frame has no positive 'p_max' field data and the "
-          "PMax property is 0, so 'max_shear_ratio' is not computed.");
+  // p_max: the property overrides the field data. A missing p_max is only worth a warning
+  // when the ratio was asked for (RatioMode On), and then once for the current settings:
+  // not on every frame of a series (the filter's MTime does not change with the time step).
+  double pMax = 0.0;
+  if (this->RatioMode != RATIO_OFF) {
+    pMax = this->PMax;
+    if (!(pMax > 0)) {
+      bool found = false;
+      pMax = FieldNumber(input->GetFieldData(), "p_max", found);
+      if (!found || !(pMax > 0)) {
+        pMax = 0.0;
+        if (this->RatioMode == RATIO_ON && this->NoPMaxWarningTime != this->GetMTime()) {
+          this->NoPMaxWarningTime = this->GetMTime();
+          vtkWarningMacro(
+              "No peak pressure: the frame has no positive 'p_max' field data and the "
+              "PMax property is 0, so 'max_shear_ratio' is not computed.");
+        }
+      }
     }
   }
 
@@ -326,6 +339,8 @@ void vtkHexDEMMaxShearStress::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "StressSource: " << sources[this->StressSource] << "\n";
   os << indent << "ComputeThreeDimensional: " << (this->ComputeThreeDimensional ? "On" : "Off")
      << "\n";
+  const char* ratioModes[] = {"Automatic", "On", "Off"};
+  os << indent << "RatioMode: " << ratioModes[this->RatioMode] << "\n";
   os << indent << "PMax: " << this->PMax << "\n";
   os << indent << "Thickness: " << this->Thickness << "\n";
 }

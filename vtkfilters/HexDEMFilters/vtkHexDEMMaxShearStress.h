@@ -16,7 +16,10 @@
  * When a peak pressure p_max is known (the PMax property when > 0, else the frame's field
  * data `p_max` when > 0) the filter adds `max_shear_ratio` = tau_max / p_max (and
  * `max_shear_3d_ratio`), the quantity of the paper's Figs. 4 and 5. Without p_max these
- * arrays are not made and the filter warns.
+ * arrays are not made. RatioMode says whether the ratio is wanted: Automatic (default) makes
+ * it when p_max is known and stays silent otherwise (an impact case has no p_max); On warns,
+ * once for the filter's current settings (not on every time step), when there is no p_max;
+ * Off never makes it.
  *
  * The stress can instead be recovered from the bond forces (StressSource), for frames
  * written without `stress`: for each disk i,
@@ -85,6 +88,19 @@ class HEXDEMFILTERSCORE_EXPORT vtkHexDEMMaxShearStress : public vtkUnstructuredG
   vtkBooleanMacro(ComputeThreeDimensional, vtkTypeBool);
   ///@}
 
+  /// When `max_shear_ratio` is made (RatioMode).
+  enum RatioModes { RATIO_AUTOMATIC = 0, RATIO_ON = 1, RATIO_OFF = 2 };
+
+  ///@{
+  /**
+   * RATIO_AUTOMATIC (default): the ratio arrays when p_max is known, silently nothing
+   * otherwise. RATIO_ON: the same, but a missing p_max is warned about, once until a property
+   * of the filter changes. RATIO_OFF: never the ratio arrays.
+   */
+  vtkSetClampMacro(RatioMode, int, RATIO_AUTOMATIC, RATIO_OFF);
+  vtkGetMacro(RatioMode, int);
+  ///@}
+
   ///@{
   /**
    * Peak pressure p_max [Pa] for `max_shear_ratio`. When > 0 it overrides the frame's
@@ -114,6 +130,9 @@ class HEXDEMFILTERSCORE_EXPORT vtkHexDEMMaxShearStress : public vtkUnstructuredG
   vtkTypeBool ComputeThreeDimensional;
   double PMax;
   double Thickness;
+  int RatioMode;
+  /// The filter's MTime when "No peak pressure" was last warned (0: never).
+  vtkMTimeType NoPMaxWarningTime;
 
  private:
   vtkHexDEMMaxShearStress(const vtkHexDEMMaxShearStress&) = delete;

@@ -24,6 +24,34 @@ PALETTE = [
 ]
 
 
+# Crack modes (the crack map's `mode`, the frames' `state`): code, name, colour. The figure
+# scripts and hexdem_view.py colour cracks with these.
+CRACK_MODES = [(2, "tension", (0.85, 0.15, 0.10)), (3, "shear", (0.10, 0.35, 0.85)),
+               (4, "compression", (0.10, 0.60, 0.20))]
+# Fragments without a colour of their own (beyond the palette, or outside a body selection).
+SMALL_FRAGMENT_COLOUR = [0.75, 0.75, 0.75]
+
+
+def categorical_modes(lut, counts=None):
+    """Makes `lut` (the `mode` colour map) categorical: tension, shear, compression in the
+    CRACK_MODES colours, with the count of each in its label when `counts` is given."""
+    lut.InterpretValuesAsCategories = 1
+    lut.AnnotationsInitialized = 1
+    lut.Annotations = [x for mode, name, _ in CRACK_MODES for x in (
+        str(mode), "%s (%d)" % (name, counts[name]) if counts else name)]
+    lut.IndexedColors = [c for _, _, colour in CRACK_MODES for c in colour]
+
+
+def categorical_fragments(lut, labels):
+    """Makes `lut` (the `fragment_id` colour map) categorical: fragment k gets PALETTE[k] and
+    the label labels[k]; other ids (smaller fragments, -1 outside a body selection) grey."""
+    lut.InterpretValuesAsCategories = 1
+    lut.AnnotationsInitialized = 1
+    lut.Annotations = [x for k, label in enumerate(labels) for x in (str(k), label)]
+    lut.IndexedColors = [c for k in range(len(labels)) for c in PALETTE[k % len(PALETTE)]]
+    lut.NanColor = SMALL_FRAGMENT_COLOUR
+
+
 def fail(script, message):
     """Prints a one-line error and exits with a non-zero code."""
     sys.stderr.write("%s: %s\n" % (script, message))
@@ -76,6 +104,21 @@ def load_plugin(script, pv, path):
     pv.LoadPlugin(candidates[0], remote=False)
     if not hasattr(pv, "HexDEMCrackMap"):
         fail(script, "'%s' did not provide the hexdem filters" % candidates[0])
+    LOADED_PLUGIN.append(os.path.abspath(candidates[0]))
+
+
+LOADED_PLUGIN = []  # the plugin load_plugin loaded, if it did
+
+
+def loaded_plugin_path():
+    """The plugin's .so: the one load_plugin loaded, else the first on PV_PLUGIN_PATH."""
+    if LOADED_PLUGIN:
+        return LOADED_PLUGIN[-1]
+    for folder in os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep):
+        path = os.path.join(folder, PLUGIN_NAME + ".so")
+        if folder and os.path.isfile(path):
+            return os.path.abspath(path)
+    return None
 
 
 def open_input(script, pv, path, time):

@@ -16,8 +16,7 @@ import figure_common as fc  # noqa: E402
 
 SCRIPT = "figure_cracks"
 LEGEND = 0.22  # right fraction of the image kept for the legend
-MODES = [(2, "tension", (0.85, 0.15, 0.10)), (3, "shear", (0.10, 0.35, 0.85)),
-         (4, "compression", (0.10, 0.60, 0.20))]
+MODES = fc.CRACK_MODES
 
 
 def main(argv):
@@ -68,9 +67,7 @@ def main(argv):
     lines.SetRepresentationType("Surface")
     pv.ColorBy(lines, ("CELLS", "mode"))
     lut = pv.GetColorTransferFunction("mode")
-    lut.InterpretValuesAsCategories = 1
-    lut.Annotations = [x for mode, name, _ in MODES for x in (str(mode), "%s (%d)" % (name, counts[name]))]
-    lut.IndexedColors = [c for _, _, colour in MODES for c in colour]
+    fc.categorical_modes(lut, counts)
     width = args.line_width or min(6.0, max(1.5, 0.35 * r_max * camera.pixels_per_metre))
     lines.LineWidth = width
     lines.RenderLinesAsTubes = 0

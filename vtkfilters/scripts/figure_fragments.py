@@ -54,13 +54,7 @@ def main(argv):
     disks = fc.show_disks(pv, fragments, view, r_max)
     pv.ColorBy(disks, ("POINTS", "fragment_id"))
     lut = pv.GetColorTransferFunction("fragment_id")
-    lut.InterpretValuesAsCategories = 1
-    annotations, colours = [], []
-    for k in range(coloured):
-        annotations += [str(k), "%d: %d disks" % (k, sizes[k])]
-        colours += list(fc.PALETTE[k % len(fc.PALETTE)])
-    lut.Annotations = annotations
-    lut.IndexedColors = colours
+    fc.categorical_fragments(lut, ["%d: %d disks" % (k, sizes[k]) for k in range(coloured)])
     lut.NanColor = SMALL_COLOUR  # fragments without a colour of their own
     fc.style_scalar_bar(pv, lut, view, "fragment", LEGEND, categorical=True)
     disks.SetScalarBarVisibility(view, True)

@@ -2,6 +2,7 @@
 
 #include "hexdem/post/post.hpp"
 
+#include <vtkAbstractArray.h>
 #include <vtkAlgorithm.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
@@ -375,11 +376,24 @@ std::string table_csv(vtkTable* table) {
     names.push_back(table->GetColumnName(c));
   text += csv_header_line(names);
   for (vtkIdType r = 0; r < table->GetNumberOfRows(); ++r) {
-    std::vector<double> row;
+    std::string line;
     for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c) {
-      row.push_back(table->GetValue(r, c).ToDouble());
+      if (c) line += ',';
+      if (table->GetColumn(c)->IsA("vtkStringArray")) {
+        // A text column (body_name): quoted (RFC 4180) when it holds a comma or a quote.
+        const std::string v = table->GetValue(r, c).ToString();
+        if (v.find_first_of(",\"\n") == std::string::npos) {
+          line += v;
+        } else {
+          line += '"';
+          for (char ch : v) line += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+          line += '"';
+        }
+      } else {
+        line += format_number(table->GetValue(r, c).ToDouble());
+      }
     }
-    text += csv_line(row);
+    text += line + "\n";
   }
   return text;
 }
