@@ -49,8 +49,13 @@ std::vector<Vec2> flatten_arc(Vec2 a, Vec2 b, Vec2 center, bool ccw, double chor
   // and never let one chord span more than half a turn.
   const double max_step = chord_error >= radius ? std::numbers::pi
                                                 : 2.0 * std::acos(1.0 - chord_error / radius);
-  const auto segments =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(sweep / max_step)));
+  const double chords = std::ceil(sweep / max_step);
+  if (!(chords <= kMaxArcChords))
+    throw InputError("an arc of radius " + std::to_string(radius) + " would need more than " +
+                     std::to_string(static_cast<long long>(kMaxArcChords)) +
+                     " chords at a chord error of " + std::to_string(chord_error) +
+                     " (the disk radius is too small for the arc)");
+  const auto segments = std::max<std::size_t>(1, static_cast<std::size_t>(chords));
   const double step = (ccw ? sweep : -sweep) / static_cast<double>(segments);
 
   std::vector<Vec2> points;
