@@ -4,8 +4,9 @@
 // byte and token insertions, deletions, duplications, splices, interesting numbers in place
 // of numbers, interesting 64-bit words for binary files). Bad input must end in an
 // InputError with a one-line message; anything else is a finding: an internal error (any
-// other exception), a multi-line message, or, under ASan+UBSan, a sanitizer report or a
-// signal (the process dies), or a hang (SIGALRM after --timeout seconds aborts).
+// other exception), a multi-line message, a signal or a sanitizer report (under ASan+UBSan
+// the sanitizers abort), or a hang (no result after --timeout seconds). Each input runs in a
+// child process (fork), so that one crash does not end the run.
 //
 // Usage: hexdem_fuzz --corpus DIR --work DIR [--seconds S] [--runs N] [--seed K]
 //                    [--target outline|case|dxf|vtu|all] [--timeout S]
@@ -13,6 +14,7 @@
 // as WORK/findings/<target>-<n>.<ext>; the input being read is always WORK/input.<ext>.
 
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -46,16 +48,6 @@ using namespace hexdem;
 
 /// Few disks: the fuzzer looks for crashes, not for large meshes.
 constexpr std::int64_t kFuzzMaxDisks = 3000;
-
-const char* g_current_input = "";
-
-void on_alarm(int) {
-  const char msg[] = "hexdem_fuzz: HANG (timeout) on input ";
-  [[maybe_unused]] auto a = write(STDERR_FILENO, msg, sizeof msg - 1);
-  [[maybe_unused]] auto b = write(STDERR_FILENO, g_current_input, std::strlen(g_current_input));
-  [[maybe_unused]] auto c = write(STDERR_FILENO, "\n", 1);
-  abort();
-}
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -185,7 +177,8 @@ struct Target {
 
 enum class Outcome { Accepted, InputError, Finding };
 
-Outcome run_one(const Target& t, const fs::path& input, const fs::path& work, std::string& why) {
+Outcome run_one(const Target& t, const fs::path& input, const fs::path& work, std::size_t k,
+                std::string& why) {
   try {
     if (t.name == "outline") {
       meshing::ReadOptions ro;
@@ -207,9 +200,8 @@ Outcome run_one(const Target& t, const fs::path& input, const fs::path& work, st
       go.max_disks = kFuzzMaxDisks;
       (void)meshing::generate_lattice(o, go);
     } else {
-      static int analysis = 0;
       post::PostOptions po;
-      po.analysis = static_cast<post::Analysis>(analysis++ % 3);
+      po.analysis = static_cast<post::Analysis>(k % 3);
       po.input = input.string();
       po.output = (work / "post_out").string();
       po.quiet = true;
@@ -235,6 +227,49 @@ Outcome run_one(const Target& t, const fs::path& input, const fs::path& work, st
     why = std::string("internal error: ") + e.what();
     return Outcome::Finding;
   }
+}
+
+/// Runs one input in a child process: its exit code carries the outcome, its stderr (a
+/// file) the reason; a signal, a sanitizer's abort or a timeout is a finding.
+Outcome run_in_child(const Target& t, const fs::path& input, const fs::path& work, std::size_t k,
+                     unsigned timeout, std::string& why) {
+  const fs::path report = work / "child_report.txt";
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    why = "fork failed";
+    return Outcome::Finding;
+  }
+  if (pid == 0) {
+    std::string reason;
+    const Outcome o = run_one(t, input, work, k, reason);
+    write_file(report, reason);
+    _exit(o == Outcome::Accepted ? 0 : o == Outcome::InputError ? 3 : 4);
+  }
+  int status = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (true) {
+    const pid_t r = waitpid(pid, &status, WNOHANG);
+    if (r == pid) break;
+    if (std::chrono::steady_clock::now() - start > std::chrono::seconds(timeout)) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      why = "hang (no result after " + std::to_string(timeout) + " s)";
+      return Outcome::Finding;
+    }
+    usleep(200);
+  }
+  if (WIFSIGNALED(status)) {
+    why = "killed by signal " + std::to_string(WTERMSIG(status)) + " (" + strsignal(WTERMSIG(status)) +
+          "; a sanitizer report, if any, is above)";
+    return Outcome::Finding;
+  }
+  const int code = WEXITSTATUS(status);
+  if (code == 0) return Outcome::Accepted;
+  if (code == 3) return Outcome::InputError;
+  why = code == 4 ? read_file(report) : "exit code " + std::to_string(code) + " (a sanitizer report?)";
+  return Outcome::Finding;
 }
 
 int usage() {
@@ -277,11 +312,9 @@ int main(int argc, char** argv) {
   for (const auto& e : fs::directory_iterator(corpus / "case"))
     if (e.path().extension() != ".toml") fs::copy_file(e.path(), work / e.path().filename(), fs::copy_options::overwrite_existing);
 
-  signal(SIGALRM, on_alarm);
   Mutator mutator(std::stoull(args["--seed"]));
   const auto start = std::chrono::steady_clock::now();
   std::int64_t total = 0;
-  std::string input_name;
   for (std::size_t k = 0;; ++k) {
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (runs > 0 && total >= runs) break;
@@ -292,12 +325,8 @@ int main(int argc, char** argv) {
     const std::string text = (k / targets.size()) % 8 == 0 ? seed : mutator.mutate(seed, t.seeds, t.binary);
     const fs::path input = work / ("input" + t.extension);
     write_file(input, text);
-    input_name = input.string();
-    g_current_input = input_name.c_str();
     std::string why;
-    alarm(timeout);
-    const Outcome outcome = run_one(t, input, work, why);
-    alarm(0);
+    const Outcome outcome = run_in_child(t, input, work, k, timeout, why);
     ++t.runs;
     ++total;
     if (outcome == Outcome::Accepted) ++t.accepted;

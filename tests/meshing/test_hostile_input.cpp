@@ -240,6 +240,11 @@ TEST(HostileInput, DxfWithNanOrInfCoordinateIsRefused) {
               std::string::npos)
         << msg;
   }
+  // Coordinates near 1e300 were read, and meshed into 3 disks with region area inf.
+  const std::string huge = write_file(
+      "huge.dxf", dxf_polyline({{"1e300", "1e300"}, {"2e300", "1e300"}, {"2e300", "2e300"}, {"1e300", "2e300"}}));
+  const std::string msg = input_error([&] { read_outline_dxf(huge, dxf_options()); });
+  EXPECT_NE(msg.find("coordinate out of range"), std::string::npos) << msg;
   // The same square with good numbers (also with a decimal comma, as dxflib allows) reads.
   const std::string good = write_file(
       "good.dxf", dxf_polyline({{"0", "0"}, {"0,01", "0"}, {"0.01", "1e-2"}, {"+0", "0.01"}}));

@@ -351,6 +351,15 @@ TEST(PostHostile, DamagedFramesAreInputErrors) {
   // bonds" of a frame with more.
   cases.push_back({replaced(good, "NumberOfCells=", "NumberOfCells=\"2\" x="), "but NumberOfCells=2 makes"});
   cases.push_back({good.substr(0, data + 40), "runs past the end of the file"});
+  {
+    // Found by the fuzzer: a repeated array element made VTK's reader crash (SIGSEGV).
+    const std::size_t at = good.find("<DataArray type=\"Float64\" Name=\"shear_force\"");
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t end = good.find('\n', at) + 1;
+    std::string t = good;
+    t.insert(end, good.substr(at, end - at));
+    cases.push_back({t, "array 'shear_force' appears twice in <CellData>"});
+  }
 
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string name = "bad" + std::to_string(k) + ".vtu";

@@ -368,11 +368,16 @@ void check_vtu_file(const std::string& path) {
     if (!np || !nc) fail(path, "<Piece> without NumberOfPoints and NumberOfCells");
     pieces[static_cast<int>(i)] = {*np, *nc};
   }
+  std::map<std::pair<int, std::string>, int> seen;  // (parent element, name) -> count
   for (std::size_t i = 0; i < doc.elements.size(); ++i) {
     const Element& e = doc.elements[i];
     if (e.name != "DataArray" && e.name != "Array") continue;
     const std::string name = attr(e, "Name");
     const std::string what = "array '" + escape_text(name.substr(0, 60)) + "'";
+    // VTK's reader keeps one slot per element but replaces arrays of the same name: a
+    // repeated name leaves it reading into a slot that does not exist.
+    if (++seen[{e.parent, name}] > 1)
+      fail(path, what + " appears twice in <" + doc.elements[static_cast<std::size_t>(std::max(e.parent, 0))].name + ">");
     const std::string type = attr(e, "type");
     const std::size_t tsize = type_size(type);
     if (tsize == 0) fail(path, what + ": unknown type=\"" + escape_text(type.substr(0, 40)) + "\"");
