@@ -182,6 +182,31 @@ TEST(HostileCli, CaseNameMustBeAFileStem) {
   EXPECT_FALSE(fs::exists(dir / "x.pvd"));
 }
 
+TEST(HostileCli, CaseFileStemThatIsNoNameIsRefused) {
+  const fs::path dir = work_dir();
+  const fs::path c = write(dir, "..toml", plate_case("", "end = 1e-6"));
+  expect_input_error(run_hexdem(dir, "run " + quote(c) + " -o " + quote(dir / "out")),
+                     "the file name does not make a case name");
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(HostileCli, DiskLimitOfACase) {
+  const fs::path dir = work_dir();
+  const fs::path c = write(dir, "c.toml", plate_case("name = \"p\"", "end = 1e-6", "",
+                                                     "[mesh]\nmax_disks = 100\n"));
+  // The plate has 252 disks.
+  const Result r = run_hexdem(dir, "run " + quote(c) + " -o " + quote(dir / "out"));
+  expect_input_error(r, "limit of 100 ");
+  EXPECT_NE(r.err.find("[mesh] max_disks = N or --max-disks N"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  EXPECT_EQ(run_hexdem(dir, "run " + quote(c) + " -q --max-disks 300 -o " + quote(dir / "out")).code, 0);
+  expect_input_error(run_hexdem(dir, "run " + quote(c) + " --max-disks 5 -o " + quote(dir / "out2")),
+                     "limit of 5 ");
+  const fs::path bad = write(dir, "bad.toml", plate_case("name = \"p\"", "end = 1e-6", "",
+                                                         "[mesh]\nmax_disks = 0\n"));
+  expect_input_error(run_hexdem(dir, "run " + quote(bad)), "mesh.max_disks: must lie in [1, ");
+}
+
 // ---- time control --------------------------------------------------------------------------
 
 TEST(HostileCli, StepCountOverflowIsRefused) {
