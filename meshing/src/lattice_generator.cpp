@@ -722,10 +722,16 @@ BodyOutline resolved_body(const BodyOutline& in, const GeneratorOptions& options
 /// Largest lattice row or column index the generator handles (they are stored as int32).
 constexpr double kMaxLatticeIndex = 1073741824.0;  // 2^30
 
-/// Checks, before anything is allocated, that the lattice indices of every body fit and that
-/// the estimated number of disks (region area / hexagon area; at least one per lattice row)
-/// stays within options.max_disks.
-void check_size(const Outline& outline, const GeneratorOptions& options) {
+}  // namespace
+
+void check_lattice_size(const Outline& outline, const GeneratorOptions& options) {
+  for (const BodyOutline& body : outline.bodies)
+    for (const auto* loops : {&body.outers, &body.holes})
+      for (const Loop& loop : *loops)
+        for (const Vec2& p : loop.points)
+          if (!(std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate))
+            throw InputError(loop.where + ": coordinate out of range: |x| and |y| must be at most " +
+                             fmt(kMaxCoordinate) + " m ((" + fmt(p.x) + ", " + fmt(p.y) + "))");
   double total = 0.0;
   std::string largest;
   double largest_count = -1.0;
@@ -768,12 +774,11 @@ void check_size(const Outline& outline, const GeneratorOptions& options) {
     throw InputError(outline.source + ": about " + fmt(total) + " disks (" + largest +
                      "), more than the limit of " + std::to_string(options.max_disks) +
                      " (the mesh alone would need about " + fmt(gigabytes) +
-                     " GB); use a larger disk radius, check the units of the outline, or raise "
-                     "the limit with " + options.max_disks_hint);
+                     " GB); use a larger disk radius or check the units of the outline" +
+                     (options.max_disks_hint.empty() ? std::string()
+                                                     : ", or raise the limit with " + options.max_disks_hint));
   }
 }
-
-}  // namespace
 
 bool is_reserved_array_name(const std::string& name) {
   // Point arrays of mesh files (lattice_vtu.cpp) and of result frames (solver/src/output.cpp).
@@ -811,7 +816,7 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
   if (options.max_disks < 1) {
     throw InputError("the disk limit must be >= 1 (got " + std::to_string(options.max_disks) + ")");
   }
-  check_size(outline, options);
+  check_lattice_size(outline, options);
 
   struct Entry { std::int32_t set, disk; double length, nx, ny, distance, mx, my; };
   std::vector<Entry> entries;

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/meshing/text.hpp"
 #include "hexdem/meshing/toml_values.hpp"
 
@@ -548,6 +549,10 @@ class Reader {
     }
     if (loops.empty()) throw InputError(path_ + ": no closed outline");
     Outline outline = nest(loops);
+    GeneratorOptions ceiling;
+    ceiling.max_disks = kMaxDisksCeiling;
+    ceiling.max_disks_hint.clear();
+    check_lattice_size(outline, ceiling);
     validate_and_orient(outline);
     return outline;
   }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/meshing/text.hpp"
 
 namespace hexdem::meshing {
@@ -154,6 +155,10 @@ Outline Reader::read(const toml::table& root) {
   for (std::size_t i = 0; i < list.size(); ++i) read_body(*list.get(i)->as_table(), i, defaults);
 
   outline_.source = source_;
+  GeneratorOptions ceiling;
+  ceiling.max_disks = kMaxDisksCeiling;
+  ceiling.max_disks_hint.clear();
+  check_lattice_size(outline_, ceiling);
   validate_and_orient(outline_);
   return std::move(outline_);
 }

@@ -4,6 +4,7 @@
 // file and the value.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -79,11 +80,16 @@ TEST(HostileInput, HugeCoordinatesAreRefused) {
 
 TEST(HostileInput, DiskCountIsEstimatedAndRefusedBeforeAllocating) {
   // Was: a 1.15 TB allocation request (std::bad_alloc, an internal error) at r = 1e-9.
-  const std::string toml = rectangle_outline("radius = 1e-9", "[0, 0]", "[1, 1]");
+  // 1 m^2 / (2 sqrt(3) r^2) = 2.9e17 disks: beyond the reader's ceiling of 1e12.
+  const std::string absurd = input_error(
+      [] { generate(rectangle_outline("radius = 1e-9", "[0, 0]", "[1, 1]")); });
+  EXPECT_NE(absurd.find("hostile.toml: about 2.88675e+17 disks"), std::string::npos) << absurd;
+  EXPECT_NE(absurd.find("limit of 1000000000000"), std::string::npos) << absurd;
+  // r = 1e-6: 2.9e11 disks, within the ceiling, refused by the generator's limit.
+  const std::string toml = rectangle_outline("radius = 1e-6", "[0, 0]", "[1, 1]");
   const std::string msg = input_error([&] { generate(toml); });
-  // 1 m^2 / (2 sqrt(3) r^2) = 2.9e17 disks.
-  EXPECT_NE(msg.find("hostile.toml: about 2.88675e+17 disks"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("limit of 100000000"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("hostile.toml: about 2.88675e+11 disks"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("limit of 100000000 "), std::string::npos) << msg;
   EXPECT_NE(msg.find(" GB"), std::string::npos) << msg;
   EXPECT_NE(msg.find("--max-disks N"), std::string::npos) << msg;
 }
@@ -259,6 +265,32 @@ TEST(HostileInput, DxfCircleWithNegativeRadiusIsRefused) {
       "0\nSECTION\n2\nENTITIES\n0\nCIRCLE\n8\nrim\n10\n0\n20\n0\n40\n-5\n0\nENDSEC\n0\nEOF\n");
   const std::string msg = input_error([&] { read_outline_dxf(path, dxf_options()); });
   EXPECT_EQ(msg, path + ": CIRCLE on layer 'rim' has radius -5 (must be > 0)");
+}
+
+TEST(HostileInput, DxfHugeCircleIsRefusedQuickly) {
+  // Found by the fuzzer: a circle of radius 4e9 mm at r = 0.5 mm was flattened into 7 million
+  // chords that CGAL then validated (28 s and 1.8 GB before the size was refused).
+  const std::string path = write_file(
+      "huge_circle.dxf",
+      "0\nSECTION\n2\nHEADER\n9\n$INSUNITS\n70\n4\n0\nENDSEC\n0\nSECTION\n2\nENTITIES\n"
+      "0\nCIRCLE\n8\nrim\n10\n0\n20\n0\n40\n4000000000\n0\nENDSEC\n0\nEOF\n");
+  const auto start = std::chrono::steady_clock::now();
+  const std::string msg = input_error([&] { read_outline_dxf(path, dxf_options()); });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(msg, path + ": an arc of radius 4e+09 would need more than 1000000 chords at a chord "
+                        "error of 0.0005 (the disk radius is too small for the arc)");
+  EXPECT_LT(seconds, 5.0);
+}
+
+TEST(HostileInput, OutlineSizeIsCheckedBeforeValidation) {
+  // A circle of 1e5 m at r = 0.5 mm: 3.6e16 disks; refused by the reader's ceiling before its
+  // 62,000 chords are validated.
+  const std::string toml = "[lattice]\nradius = 0.5e-3\n[[body]]\nname = \"a\"\n[[body.shape]]\n"
+                           "type = \"circle\"\ncenter = [0, 0]\nradius = 1e5\n";
+  const std::string msg = input_error([&] { parse_outline_toml(toml, "hostile.toml", {}); });
+  EXPECT_NE(msg.find("hostile.toml: about 3.6"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("limit of 1000000000000"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("--max-disks"), std::string::npos) << msg;
 }
 
 TEST(HostileInput, DxfLayerWithNewlineIsQuotedOnOneLine) {

@@ -24,10 +24,11 @@ namespace hexdem::meshing {
 /// Default limit on the number of disks of one generation (GeneratorOptions::max_disks).
 inline constexpr std::int64_t kDefaultMaxDisks = 100'000'000;
 
-/// Memory a generated lattice needs per disk, estimated for messages [bytes]: the disk
-/// arrays (x, y, radius, cell area and centroid, kind, body, material: 57 bytes) and three
-/// bonds (10 bytes each), plus the generator's working arrays.
-inline constexpr double kLatticeBytesPerDisk = 160.0;
+/// Memory `hexdem mesh` needs per disk, for messages [bytes]: the disk arrays (x, y, radius,
+/// cell area and centroid, kind, body, material: 57 bytes), three bonds (10 bytes each) and
+/// the generator's and writer's working arrays. Measured: 143 MB peak resident for a
+/// 1,155,578-disk rectangle (docs/outline-format.md, "Size limit").
+inline constexpr double kLatticeBytesPerDisk = 125.0;
 
 struct GeneratorOptions {
   LatticeOptions lattice;                       ///< defaults for bodies that set none
@@ -39,6 +40,17 @@ struct GeneratorOptions {
   /// came from (e.g. "--max-disks N").
   std::string max_disks_hint = "--max-disks N";
 };
+
+/// Ceiling the outline readers apply (check_lattice_size before validating the loops, so that
+/// absurd outlines are refused before CGAL works on millions of arc chords); the generator
+/// then applies GeneratorOptions::max_disks.
+inline constexpr std::int64_t kMaxDisksCeiling = 1'000'000'000'000;
+
+/// Throws InputError, before anything is allocated, when a lattice index of a body would pass
+/// 2^30 or the estimated disk count (region area / hexagon area 2 sqrt(3) r^2, at least one
+/// per lattice row, summed over the bodies) exceeds options.max_disks. Bodies need a radius
+/// (from the body or options.lattice).
+void check_lattice_size(const Outline& outline, const GeneratorOptions& options);
 
 /// Point array names of mesh and result frames that a boundary set may not take (a set is
 /// written as a point array of its name).

@@ -60,7 +60,7 @@ struct Outline {
 double signed_area(const Loop& loop);
 
 /// Most chords flatten_arc makes of one arc.
-inline constexpr double kMaxArcChords = 1e7;
+inline constexpr double kMaxArcChords = 1e6;
 
 /// Flattens a circular arc from `a` to `b` about `center` (counter-clockwise if ccw) into
 /// chords whose sagitta is at most `chord_error` [m]. Returns the points after `a`, ending
