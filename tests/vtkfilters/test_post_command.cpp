@@ -360,6 +360,13 @@ TEST(PostHostile, DamagedFramesAreInputErrors) {
     t.insert(end, good.substr(at, end - at));
     cases.push_back({t, "array 'shear_force' appears twice in <CellData>"});
   }
+  // Found by the fuzzer under ASan: NumberOfTuples="4000000000" of a String array made VTK
+  // allocate 128 GB; a repeated <AppendedData> tag made it read a garbage block count
+  // (std::length_error, an internal error).
+  cases.push_back({replaced(good, "Name=\"geometry\" NumberOfTuples=\"1\"", "Name=\"geometry\" NumberOfTuples=\"4000000000\""),
+                   "NumberOfTuples=4000000000 strings cannot fit in"});
+  cases.push_back({replaced(good, "<AppendedData encoding=\"raw\">", "<AppendedData encoding=\"raw\">\n  <AppendedData encoding=\"raw\">"),
+                   "damaged AppendedData (text before its '_' marker)"});
 
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string name = "bad" + std::to_string(k) + ".vtu";

@@ -139,6 +139,11 @@ Document parse_structure(const std::string& path, std::string_view text, bool st
       doc.appended_encoding = doc.elements[index].attributes["encoding"];
       const std::size_t underscore = text.find('_', k);
       if (underscore == std::string_view::npos) fail(path, "AppendedData without its '_' marker");
+      // Only white space may come before the marker: VTK finds the data on its own way, and
+      // anything else (a repeated tag, text) makes it read the headers from elsewhere.
+      for (std::size_t c = k; c < underscore; ++c)
+        if (text[c] != ' ' && text[c] != '\n' && text[c] != '\r' && text[c] != '\t')
+          fail(path, "damaged AppendedData (text before its '_' marker)");
       doc.appended_begin = underscore + 1;
       return doc;
     }
@@ -438,6 +443,14 @@ void check_vtu_file(const std::string& path) {
                        " values, more than the ascii data can hold");
     } else {
       fail(path, what + ": unknown format=\"" + escape_text(format.substr(0, 40)) + "\"");
+    }
+    if (type == "String") {
+      // Each string takes at least its terminating NUL.
+      const auto tuples = unsigned_attribute(e, "NumberOfTuples", path).value_or(0);
+      const std::uint64_t room = bytes ? *bytes : (e.text_end > e.text_begin ? e.text_end - e.text_begin : 0);
+      if (tuples * components > room)
+        fail(path, what + ": NumberOfTuples=" + std::to_string(tuples) + " strings cannot fit in " +
+                       std::to_string(room) + " bytes");
     }
     if (bytes) {
       if (type != "String" && *bytes % tsize != 0)
