@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/text.hpp"
 
 namespace hexdem::meshing {
 namespace {
@@ -701,6 +702,93 @@ public:
 
 }  // namespace
 
+namespace {
+
+BodyOutline resolved_body(const BodyOutline& in, const GeneratorOptions& options) {
+  BodyOutline body = in;
+  if (!body.radius) body.radius = options.lattice.radius;
+  if (!body.angle_deg) body.angle_deg = options.lattice.angle_deg;
+  if (!body.origin) body.origin = options.lattice.origin;
+  if (!(*body.radius > 0) || !std::isfinite(*body.radius)) {
+    throw InputError(body.where + ": disk radius must be > 0 (got " + fmt(*body.radius) + ")");
+  }
+  if (!std::isfinite(*body.angle_deg) || !std::isfinite(body.origin->x) ||
+      !std::isfinite(body.origin->y)) {
+    throw InputError(body.where + ": lattice angle and origin must be finite");
+  }
+  return body;
+}
+
+/// Largest lattice row or column index the generator handles (they are stored as int32).
+constexpr double kMaxLatticeIndex = 1073741824.0;  // 2^30
+
+}  // namespace
+
+void check_lattice_size(const Outline& outline, const GeneratorOptions& options) {
+  for (const BodyOutline& body : outline.bodies)
+    for (const auto* loops : {&body.outers, &body.holes})
+      for (const Loop& loop : *loops)
+        for (const Vec2& p : loop.points)
+          if (!(std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate))
+            throw InputError(loop.where + ": coordinate out of range: |x| and |y| must be at most " +
+                             fmt(kMaxCoordinate) + " m ((" + fmt(p.x) + ", " + fmt(p.y) + "))");
+  double total = 0.0;
+  std::string largest;
+  double largest_count = -1.0;
+  for (const BodyOutline& in : outline.bodies) {
+    const BodyOutline body = resolved_body(in, options);
+    const Frame f(*body.radius, *body.angle_deg, *body.origin);
+    double area = 0.0, xmax = 0.0, ymax = 0.0;
+    double ylo = std::numeric_limits<double>::infinity(), yhi = -ylo;
+    for (const Loop& loop : body.outers) {
+      area += std::abs(signed_area(loop));
+      for (const Vec2& p : loop.points) {
+        const Vec2 q = f.to_lattice(p);
+        xmax = std::max(xmax, std::abs(q.x));
+        ymax = std::max(ymax, std::abs(q.y));
+        ylo = std::min(ylo, q.y);
+        yhi = std::max(yhi, q.y);
+      }
+    }
+    if (!std::isfinite(area) || !std::isfinite(xmax) || !std::isfinite(ymax)) {
+      throw InputError(body.where + ": region too large to compute with (area " + fmt(area) +
+                       " m^2)");
+    }
+    const double reach = std::max(xmax / f.d, ymax / f.h) + 4.0;
+    if (reach > kMaxLatticeIndex) {
+      throw InputError(body.where + ": the region reaches " + fmt(reach) +
+                       " lattice spacings from the lattice origin at disk radius " + fmt(f.r) +
+                       " m (limit 2^30); use a larger radius or put the lattice origin near the region");
+    }
+    const double rows = yhi > ylo ? (yhi - ylo) / f.h + 4.0 : 0.0;
+    const double count = std::max(area / f.hex_area, rows);
+    total += count;
+    if (count > largest_count) {
+      largest_count = count;
+      largest = "body '" + escape_text(body.name) + "': " + fmt(count) + " at r = " + fmt(f.r) +
+                " m on " + fmt(area) + " m^2";
+    }
+  }
+  if (total > static_cast<double>(options.max_disks)) {
+    const double gigabytes = total * kLatticeBytesPerDisk / 1e9;
+    throw InputError(outline.source + ": about " + fmt(total) + " disks (" + largest +
+                     "), more than the limit of " + std::to_string(options.max_disks) +
+                     " (the mesh alone would need about " + fmt(gigabytes) +
+                     " GB); use a larger disk radius or check the units of the outline" +
+                     (options.max_disks_hint.empty() ? std::string()
+                                                     : ", or raise the limit with " + options.max_disks_hint));
+  }
+}
+
+bool is_reserved_array_name(const std::string& name) {
+  // Point arrays of mesh files (lattice_vtu.cpp) and of result frames (solver/src/output.cpp).
+  static const char* const reserved[] = {
+      "radius",   "kind",         "cell_area", "body",   "material", "ring_radius",
+      "mass",     "displacement", "velocity",  "rotation", "spin",   "stress",
+      "damage",   "plastic_strain"};
+  return std::find(std::begin(reserved), std::end(reserved), name) != std::end(reserved);
+}
+
 Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options,
                          GeneratorReport* report_out) {
   const auto t_start = std::chrono::steady_clock::now();
@@ -708,17 +796,32 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
   Lattice lat;
   lat.mode = options.mode;
   lat.set_names = outline.boundary_names;
+  for (const std::string& name : outline.boundary_names) {
+    if (is_reserved_array_name(name)) {
+      throw InputError(outline.source + ": boundary set (layer) name '" + name +
+                       "' is reserved: it is the name of a point array of the mesh (radius, kind, "
+                       "cell_area, body, material, ...); rename the boundary or layer");
+    }
+    if (name.empty() || has_control_character(name)) {
+      throw InputError(outline.source + ": boundary set name '" + escape_text(name) +
+                       "' must not be empty or hold control characters");
+    }
+  }
+  for (const BodyOutline& body : outline.bodies) {
+    if (body.name.empty() || has_control_character(body.name)) {
+      throw InputError(body.where + ": body name '" + escape_text(body.name) +
+                       "' must not be empty or hold control characters");
+    }
+  }
+  if (options.max_disks < 1) {
+    throw InputError("the disk limit must be >= 1 (got " + std::to_string(options.max_disks) + ")");
+  }
+  check_lattice_size(outline, options);
 
   struct Entry { std::int32_t set, disk; double length, nx, ny, distance, mx, my; };
   std::vector<Entry> entries;
   for (std::size_t b = 0; b < outline.bodies.size(); ++b) {
-    BodyOutline body = outline.bodies[b];
-    if (!body.radius) body.radius = options.lattice.radius;
-    if (!body.angle_deg) body.angle_deg = options.lattice.angle_deg;
-    if (!body.origin) body.origin = options.lattice.origin;
-    if (!(*body.radius > 0) || !std::isfinite(*body.radius)) {
-      throw InputError(body.where + ": disk radius must be > 0 (got " + fmt(*body.radius) + ")");
-    }
+    const BodyOutline body = resolved_body(outline.bodies[b], options);
     if (options.mode == GeometryMode::Axisymmetric) {
       const double tol = kTolerance * 2 * *body.radius;
       for (const Loop& l : body.outers)

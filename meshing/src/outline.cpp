@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "hexdem/error.hpp"
@@ -49,8 +50,16 @@ std::vector<Vec2> flatten_arc(Vec2 a, Vec2 b, Vec2 center, bool ccw, double chor
   // and never let one chord span more than half a turn.
   const double max_step = chord_error >= radius ? std::numbers::pi
                                                 : 2.0 * std::acos(1.0 - chord_error / radius);
-  const auto segments =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(sweep / max_step)));
+  const double chords = std::ceil(sweep / max_step);
+  if (!(chords <= kMaxArcChords)) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "an arc of radius %.6g would need more than %.0f chords at a chord error of %.6g "
+                  "(the disk radius is too small for the arc)",
+                  radius, kMaxArcChords, chord_error);
+    throw InputError(text);
+  }
+  const auto segments = std::max<std::size_t>(1, static_cast<std::size_t>(chords));
   const double step = (ccw ? sweep : -sweep) / static_cast<double>(segments);
 
   std::vector<Vec2> points;

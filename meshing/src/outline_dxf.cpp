@@ -33,6 +33,9 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/text.hpp"
+#include "hexdem/meshing/toml_values.hpp"
 
 namespace hexdem::meshing {
 namespace {
@@ -41,12 +44,6 @@ constexpr double kPi = std::numbers::pi;
 
 /// Chaining tolerance relative to the diagonal of the drawing's bounding box [-].
 constexpr double kRelativeTolerance = 1e-6;
-
-std::string format_number(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
 
 std::string format_point(Vec2 p) {
   return "(" + format_number(p.x) + ", " + format_number(p.y) + ")";
@@ -93,6 +90,25 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
   while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
   return s;
+}
+
+/// Whether a group code carries a real number (DXF reference, "Group code value types").
+bool is_real_code(int code) {
+  return (code >= 10 && code <= 59) || (code >= 110 && code <= 149) ||
+         (code >= 210 && code <= 239) || (code >= 460 && code <= 469) ||
+         (code >= 1010 && code <= 1059);
+}
+
+/// Whether `value` reads as a finite real number (dxflib also accepts a decimal comma).
+bool finite_real(std::string_view value) {
+  std::string text(value);
+  std::replace(text.begin(), text.end(), ',', '.');
+  const char* first = text.data();
+  const char* last = first + text.size();
+  if (first != last && *first == '+') ++first;
+  double v = 0.0;
+  const auto parsed = std::from_chars(first, last, v);
+  return parsed.ec == std::errc() && parsed.ptr == last && std::isfinite(v);
 }
 
 /// What the pre-scan learns about the file.
@@ -172,6 +188,12 @@ ScanResult prescan(const std::string& path, const std::string& text) {
       }
     } else if (code == 67 && in_entities && !current_type.empty()) {
       current_paper = (value == "1");
+    } else if (in_entities && is_real_code(code) && !finite_real(value)) {
+      // dxflib reads what is not a number as 0, which would silently move the point.
+      throw InputError(path + ":" + std::to_string(line_number) + ": group code " +
+                       std::to_string(code) + " of " +
+                       (current_type.empty() ? std::string("an entity") : current_type) +
+                       ": not a finite number (got '" + escape_text(value.substr(0, 40)) + "')");
     }
   }
   finish_entity();
@@ -244,8 +266,17 @@ class Collector : public DL_CreationAdapter {
     pieces.push_back(std::move(piece));
   }
 
+  /// The first problem found in an entity's values (reported after parsing: an exception
+  /// thrown through dxflib would leak its parser state).
+  std::string error;
+
   void addArc(const DL_ArcData& d) override {
     if (!wanted()) return;
+    if (!(d.radius > 0.0)) {
+      note_error("ARC on layer '" + escape_text(attributes.getLayer()) + "' has radius " +
+                 format_number(d.radius) + " (must be > 0)");
+      return;
+    }
     const auto mirror = ocs_mirror("ARC");
     if (!mirror) return;
     double sweep = std::fmod(d.angle2 - d.angle1, 360.0);
@@ -263,6 +294,11 @@ class Collector : public DL_CreationAdapter {
 
   void addCircle(const DL_CircleData& d) override {
     if (!wanted()) return;
+    if (!(d.radius > 0.0)) {
+      note_error("CIRCLE on layer '" + escape_text(attributes.getLayer()) + "' has radius " +
+                 format_number(d.radius) + " (must be > 0)");
+      return;
+    }
     const auto mirror = ocs_mirror("CIRCLE");
     if (!mirror) return;
     // Two half turns, so that no single arc starts and ends at the same point.
@@ -319,6 +355,10 @@ class Collector : public DL_CreationAdapter {
   bool polyline_mirror_ = false;
   bool polyline_classic_ = false;
   std::vector<double> bulges_;
+
+  void note_error(const std::string& problem) {
+    if (error.empty()) error = problem;
+  }
 
   /// Model-space entities only: not inside a block definition, not in paper space.
   [[nodiscard]] bool wanted() const { return !in_block_ && !previous_.paper; }
@@ -446,7 +486,7 @@ struct RawLoop {
 };
 
 std::string quoted(const std::string& layer) {
-  return "'" + layer + "'";
+  return "'" + escape_text(layer) + "'";
 }
 
 class Reader {
@@ -455,14 +495,7 @@ class Reader {
       : path_(std::move(path)), options_(options), warnings_(warnings) {}
 
   Outline read() {
-    std::string text;
-    {
-      std::ifstream in(path_, std::ios::binary);
-      if (!in) throw InputError(path_ + ": cannot open file");
-      std::ostringstream buffer;
-      buffer << in.rdbuf();
-      text = std::move(buffer).str();
-    }
+    std::string text = read_text_file(path_);
     if (!options_.radius) throw InputError(path_ + ": no disk radius (give --radius)");
     const double radius = *options_.radius;
     if (!(radius > 0.0) || !std::isfinite(radius))
@@ -479,6 +512,7 @@ class Reader {
     DL_Dxf dxf;
     if (!dxf.in(path_, &collector)) throw InputError(path_ + ": cannot open file");
     collector.finish();
+    if (!collector.error.empty()) throw InputError(path_ + ": " + collector.error);
 
     warn_skipped(scan, collector.dropped);
     scale_ = drawing_scale(collector.insunits);
@@ -505,9 +539,20 @@ class Reader {
       warn(path_ + ": skipped " + std::to_string(empty_pieces) + " zero-length " +
            (empty_pieces == 1 ? "entity" : "entities"));
 
-    std::vector<RawLoop> loops = build_loops(kept);
+    std::vector<RawLoop> loops;
+    try {
+      loops = build_loops(kept);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      if (what.rfind(path_, 0) == 0) throw;
+      throw InputError(path_ + ": " + what);  // from flatten_arc
+    }
     if (loops.empty()) throw InputError(path_ + ": no closed outline");
     Outline outline = nest(loops);
+    GeneratorOptions ceiling;
+    ceiling.max_disks = kMaxDisksCeiling;
+    ceiling.max_disks_hint.clear();
+    check_lattice_size(outline, ceiling);
     validate_and_orient(outline);
     return outline;
   }

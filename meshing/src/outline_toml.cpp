@@ -19,6 +19,8 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/text.hpp"
 
 namespace hexdem::meshing {
 namespace {
@@ -90,7 +92,7 @@ void Reader::check_keys(const toml::table& table, const std::string& path,
     if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
     std::string list;
     for (std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-    fail(key.source(), path, "unknown key '" + std::string(key.str()) + "' (allowed: " + list + ")");
+    fail(key.source(), path, "unknown key '" + escape_text(key.str()) + "' (allowed: " + list + ")");
   }
 }
 
@@ -118,8 +120,8 @@ const toml::array& Reader::table_array(const toml::node& node, const std::string
 
 /// A boundary name: "" is no set (-1).
 std::int32_t Reader::boundary(const toml::node& node, const std::string& path) {
-  const std::string name = text(node, path);
-  return name.empty() ? -1 : outline_.boundary_index(name);
+  const std::string set = name(node, path);
+  return set.empty() ? -1 : outline_.boundary_index(set);
 }
 
 Outline Reader::read(const toml::table& root) {
@@ -129,7 +131,7 @@ Outline Reader::read(const toml::table& root) {
     factor_ = unit_factor(unit);
     if (factor_ == 0.0)
       fail(*units, "units",
-           "unknown unit \"" + unit + "\" (expected \"m\", \"cm\", \"mm\", \"um\", \"in\" or \"ft\")");
+           "unknown unit \"" + escape_text(unit) + "\" (expected \"m\", \"cm\", \"mm\", \"um\", \"in\" or \"ft\")");
   }
   if (options_.scale > 0.0) factor_ = options_.scale;
   if (!(options_.chord_fraction > 0.0 && std::isfinite(options_.chord_fraction)))
@@ -153,6 +155,10 @@ Outline Reader::read(const toml::table& root) {
   for (std::size_t i = 0; i < list.size(); ++i) read_body(*list.get(i)->as_table(), i, defaults);
 
   outline_.source = source_;
+  GeneratorOptions ceiling;
+  ceiling.max_disks = kMaxDisksCeiling;
+  ceiling.max_disks_hint.clear();
+  check_lattice_size(outline_, ceiling);
   validate_and_orient(outline_);
   return std::move(outline_);
 }
@@ -174,14 +180,14 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
 
   BodyOutline body;
   const toml::node& name = required(table, "name", path);
-  body.name = text(name, path + ".name");
+  body.name = TomlValues::name(name, path + ".name");
   if (body.name.empty()) fail(name, path + ".name", "must not be empty");
   for (const BodyOutline& other : outline_.bodies) {
     if (other.name == body.name)
       fail(name, path + ".name", "duplicate body name (got " + describe(name) + ")");
   }
   body.where = source_ + ":" + std::to_string(table.source().begin.line) + ": body '" +
-               body.name + "'";
+               escape_text(body.name) + "'";
 
   if (const toml::node* n = table.get("material")) {
     const auto* id = n->as_integer();
@@ -197,7 +203,7 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
     body.radius = options_.radius ? options_.radius : defaults.radius;
   }
   if (!body.radius)
-    throw InputError(source_ + ": body '" + body.name +
+    throw InputError(source_ + ": body '" + escape_text(body.name) +
                      "': no disk radius (give --radius or [lattice] radius)");
   if (const toml::node* n = table.get("angle")) {
     body.angle_deg = number(*n, path + ".angle");
@@ -236,10 +242,17 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
              "expected \"outer\" or \"hole\" (got " + describe(*role) + ")");
       hole = value == "hole";
     }
-    Loop loop = read_shape(shape, shape_path, type, chord_error);
+    Loop loop;
+    try {
+      loop = read_shape(shape, shape_path, type, chord_error);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      if (what.rfind(source_, 0) == 0) throw;
+      fail(shape, shape_path, what);  // from flatten_arc: add the file and the shape
+    }
     for (Vec2& p : loop.points) p = scaled(p, factor_);
     loop.where = source_ + ":" + std::to_string(shape.source().begin.line) + ": body '" +
-                 body.name + "' shape[" + std::to_string(i) + "] (" + type + ")";
+                 escape_text(body.name) + "' shape[" + std::to_string(i) + "] (" + type + ")";
     (hole ? body.holes : body.outers).push_back(std::move(loop));
   }
   outline_.bodies.push_back(std::move(body));
@@ -413,6 +426,10 @@ Loop Reader::read_path(const toml::table& shape, const std::string& path, double
         const double offset = (1.0 - bulge * bulge) / (4.0 * bulge);
         const Vec2 c{0.5 * (from.x + to.x) - offset * (to.y - from.y),
                      0.5 * (from.y + to.y) + offset * (to.x - from.x)};
+        if (!std::isfinite(c.x) || !std::isfinite(c.y))
+          fail(*bulge_node, seg_path + ".bulge",
+               "too large: the arc's centre is not a finite point (got " + describe(*bulge_node) +
+                   ")");
         points = flatten_arc(from, to, c, bulge > 0.0, chord_error);
         straight = 0;
       }

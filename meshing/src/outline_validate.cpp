@@ -306,6 +306,15 @@ void validate_and_orient(Outline& outline) {
     std::vector<const Loop*> outer_of_part;
   };
   std::vector<BodyParts> bodies;
+  for (const BodyOutline& body : outline.bodies) {
+    for (const auto* loops : {&body.outers, &body.holes})
+      for (const Loop& loop : *loops)
+        for (const Vec2& p : loop.points)
+          if (!(std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate))
+            fail(loop.where, "coordinate out of range: |x| and |y| must be at most " +
+                                 format_number(kMaxCoordinate) + " m",
+                 format_point(p.x, p.y));
+  }
   for (BodyOutline& body : outline.bodies) {
     if (body.outers.empty())
       fail(body.where, "body has no outer boundary",

@@ -12,6 +12,7 @@
 // Each array's compression header is likewise reserved and patched after its blocks.
 
 #include "hexdem/io/vtu_writer.hpp"
+#include "hexdem/error.hpp"
 
 #include <zlib.h>
 #include <unistd.h>
@@ -86,8 +87,8 @@ public:
   explicit AtomicFile(std::string path) : path_(std::move(path)), temp_(temp_path_for(path_)) {
     file_ = std::fopen(temp_.c_str(), "wb");
     if (file_ == nullptr)
-      throw std::runtime_error("cannot write '" + path_ + "': cannot create '" + temp_ + "'" +
-                               errno_text(errno));
+      throw InputError("cannot write '" + path_ + "': cannot create '" + temp_ + "'" +
+                       errno_text(errno));
     std::setvbuf(file_, nullptr, _IOFBF, 1u << 20);
   }
   AtomicFile(const AtomicFile&) = delete;
@@ -123,7 +124,8 @@ public:
   }
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("cannot write '" + path_ + "': " + what + errno_text(errno));
+    // A full disk or a folder that cannot be written is not a bug: InputError (exit 2).
+    throw InputError("cannot write '" + path_ + "': " + what + errno_text(errno));
   }
 
 private:

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +21,7 @@
 #include "hexdem/meshing/lattice_vtu.hpp"
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
+#include "hexdem/meshing/text.hpp"
 #include "hexdem/post/post_command.hpp"
 #include "hexdem/solver/case_toml.hpp"
 #include "hexdem/solver/output.hpp"
@@ -41,7 +44,16 @@ struct MeshArgs {
   bool quiet = false;
   int threads = 0;
   int compression = 1;
+  std::int64_t max_disks = meshing::kDefaultMaxDisks;
 };
+
+/// Most OpenMP threads `-j` accepts: libgomp fails (and crashes) creating a hundred thousand.
+constexpr int kMaxThreads = 1024;
+
+/// `hexdem: error: MESSAGE` on one line (control characters of quoted input escaped).
+void print_error(const char* kind, const std::string& message) {
+  std::cerr << "hexdem: " << kind << ": " << meshing::one_line(message) << "\n";
+}
 
 std::string lower_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -79,6 +91,7 @@ int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
 
   meshing::GeneratorOptions go;
   go.mode = a.axisymmetric ? meshing::GeometryMode::Axisymmetric : meshing::GeometryMode::Plane;
+  go.max_disks = a.max_disks;
   meshing::GeneratorReport rep;
   const meshing::Lattice lattice = meshing::generate_lattice(outline, go, &rep);
 
@@ -119,10 +132,12 @@ struct RunArgs {
   bool quiet = false;
   std::vector<std::string> sets;  ///< --set KEY=VALUE overrides
   std::string restart;            ///< --restart FILE.chk
+  std::optional<std::int64_t> max_disks;
 };
 
 int run_run(const RunArgs& a) {
-  const solver::Case c = solver::read_case(a.case_file, a.sets);
+  solver::Case c = solver::read_case(a.case_file, a.sets);
+  if (a.max_disks) c.max_disks = *a.max_disks;
   for (const std::string& w : c.warnings) std::cerr << "hexdem: warning: " << w << "\n";
   solver::RunOptions ro;
   ro.out_dir = a.out_dir;
@@ -151,7 +166,11 @@ int main(int argc, char** argv) {
   mesh_cmd->add_flag("--axisymmetric", mesh.axisymmetric,
                      "Axisymmetric mode: x is the radius r >= 0, y the axis z");
   mesh_cmd->add_option("--scale", mesh.scale, "Metres per drawing unit (overrides units / $INSUNITS)");
-  mesh_cmd->add_option("-j,--threads", mesh.threads, "OpenMP threads (default: all)");
+  mesh_cmd->add_option("-j,--threads", mesh.threads, "OpenMP threads (default: all)")
+      ->check(CLI::Range(0, kMaxThreads));
+  mesh_cmd->add_option("--max-disks", mesh.max_disks,
+                       "Refuse outlines estimated to need more disks (default 100000000)")
+      ->check(CLI::PositiveNumber);
   mesh_cmd->add_option("--compression-level", mesh.compression, "zlib level 0-9 for the .vtu")
       ->check(CLI::Range(0, 9));
   mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "Print nothing on success");
@@ -160,7 +179,12 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand("run", "Mesh and run a case file; write a .pvd series, energy and probe CSVs");
   run_cmd->add_option("case", run.case_file, "Case file (.toml)")->required();
   run_cmd->add_option("-o,--out", run.out_dir, "Output folder (default: <case name>-output)");
-  run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")
+      ->check(CLI::Range(0, kMaxThreads));
+  run_cmd->add_option("--max-disks", run.max_disks,
+                      "Refuse outlines estimated to need more disks (default: [mesh] max_disks, "
+                      "else 100000000)")
+      ->check(CLI::PositiveNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
   run_cmd->add_option("--set", run.sets, "Override a case value: KEY=VALUE, e.g. time.end=2e-4 or material.1.E=32e9")
       ->allow_extra_args(false)
@@ -185,10 +209,13 @@ int main(int argc, char** argv) {
     if (*sweep.cmd) return sweep.run();
     if (*post.cmd) return post.run();
   } catch (const hexdem::InputError& e) {
-    std::cerr << "hexdem: error: " << e.what() << "\n";
+    print_error("error", e.what());
     return hexdem::kExitInputError;
+  } catch (const std::bad_alloc&) {
+    print_error("error", "out of memory");
+    return hexdem::kExitFailure;
   } catch (const std::exception& e) {
-    std::cerr << "hexdem: internal error: " << e.what() << "\n";
+    print_error("internal error", e.what());
     return hexdem::kExitFailure;
   }
   return hexdem::kExitOk;

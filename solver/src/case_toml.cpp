@@ -29,6 +29,7 @@
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
 #include "hexdem/meshing/outline_toml_table.hpp"
+#include "hexdem/meshing/text.hpp"
 #include "hexdem/meshing/toml_values.hpp"
 
 namespace hexdem::solver {
@@ -84,6 +85,7 @@ struct MeshSettings {
   const toml::node* outline = nullptr;  ///< the `outline` value, if given
   std::string outline_file;             ///< as written in the case file
   meshing::ReadOptions options;
+  std::int64_t max_disks = meshing::kDefaultMaxDisks;
 };
 
 /// The allowed choices of a string-valued key.
@@ -192,7 +194,11 @@ constexpr std::array<std::string_view, 3> kOutlineKeys{"units", "lattice", "body
 
 constexpr std::array<Key<Case>, 4> kCaseKeys{{
     {"name", false,
-     [](const auto& in, const auto& v, const auto& p, auto& c) { c.name = in.name(v, p); }},
+     [](const auto& in, const auto& v, const auto& p, auto& c) {
+       c.name = in.name(v, p);
+       if (const std::string problem = case_name_problem(c.name); !problem.empty())
+         in.fail(v, p, problem + " (got " + describe(v) + ")");
+     }},
     {"geometry", true,
      [](const auto& in, const auto& v, const auto& p, auto& c) {
        c.geometry = in.choice(v, p, kGeometries);
@@ -211,7 +217,7 @@ constexpr std::array<Key<Case>, 4> kCaseKeys{{
      }},
 }};
 
-constexpr std::array<Key<MeshSettings>, 5> kMeshKeys{{
+constexpr std::array<Key<MeshSettings>, 6> kMeshKeys{{
     {"outline", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.outline_file = in.name(v, p);
@@ -233,6 +239,10 @@ constexpr std::array<Key<MeshSettings>, 5> kMeshKeys{{
     {"scale", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.options.scale = in.positive(v, p);
+     }},
+    {"max_disks", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) {
+       m.max_disks = in.integer(v, p, 1, INT64_MAX);
      }},
 }};
 
@@ -545,7 +555,7 @@ bool Reader::boolean(const toml::node& node, const std::string& path) const {
 }
 
 std::string Reader::name(const toml::node& node, const std::string& path) const {
-  std::string value = text(node, path);
+  std::string value = TomlValues::name(node, path);
   if (value.empty()) fail(node, path, "must not be empty");
   return value;
 }
@@ -600,7 +610,7 @@ void Reader::read_keys(const toml::table& table, const std::string& path, Keys<T
     std::string list;
     for (const Key<T>& k : keys) list += (list.empty() ? "" : ", ") + std::string(k.name);
     fail(key.source(), path,
-         "unknown key '" + std::string(key.str()) + "' (allowed" +
+         "unknown key '" + meshing::escape_text(key.str()) + "' (allowed" +
              (context.empty() ? "" : " " + std::string(context)) + ": " + list + ")");
   }
   for (const Key<T>& k : keys) {
@@ -657,14 +667,20 @@ Case Reader::read(toml::table& root) {
       continue;
     std::string list;
     for (std::string_view k : kTopLevelKeys) list += (list.empty() ? "" : ", ") + std::string(k);
-    fail(key.source(), "", "unknown key '" + std::string(key.str()) + "' (allowed: " + list + ")");
+    fail(key.source(), "", "unknown key '" + meshing::escape_text(key.str()) + "' (allowed: " + list + ")");
   }
 
   Case c;
   c.source = source_;
   c.name = std::filesystem::path(source_).stem().string();
   read_case_table(root, c);
+  if (c.name == std::filesystem::path(source_).stem().string()) {
+    if (const std::string problem = case_name_problem(c.name); !problem.empty())
+      throw InputError(source_ + ": the file name does not make a case name: " + problem +
+                       " (give [case] name)");
+  }
   const MeshSettings mesh = read_mesh(root);
+  c.max_disks = mesh.max_disks;
   read_outline(root, mesh, c);
   read_materials(root, c);
   check_bodies(c);
@@ -918,7 +934,13 @@ void Reader::read_initial_velocities(const toml::table& root, Case& c) const {
 void Reader::read_time(const toml::table& root, Case& c) const {
   const toml::node* node = root.get("time");
   if (node == nullptr) throw InputError(source_ + ": missing table [time] (with at least `end`)");
-  read_keys(table(*node, "time"), "time", Keys<TimeControl>(kTimeKeys), c.time);
+  const toml::table& t = table(*node, "time");
+  read_keys(t, "time", Keys<TimeControl>(kTimeKeys), c.time);
+  if (c.time.dt && !(c.time.end / *c.time.dt <= kMaxSteps))
+    fail(*t.get("dt"), "time.dt",
+         "end / dt = " + format_number(c.time.end / *c.time.dt) + " steps, more than " +
+             format_number(kMaxSteps) + " (got dt = " + describe(*t.get("dt")) + ", end = " +
+             format_number(c.time.end) + ")");
 }
 
 void Reader::read_output(const toml::table& root, Case& c) const {
@@ -1094,6 +1116,18 @@ std::string effective_text(const toml::table& root, const std::string& source_na
 }
 
 }  // namespace
+
+std::string case_name_problem(const std::string& name) {
+  if (name.empty()) return "a case name must not be empty";
+  if (name == "." || name == "..") return "a case name must be a file name, not '.' or '..'";
+  if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+    return "a case name is a file name stem and must not hold '/' or '\\'";
+  if (meshing::has_control_character(name))
+    return "a case name must not hold control characters";
+  if (name.size() > kMaxCaseNameLength)
+    return "a case name must have at most " + std::to_string(kMaxCaseNameLength) + " characters";
+  return {};
+}
 
 Case parse_case(std::string_view text, const std::string& source_name,
                 const std::string& base_dir, const std::vector<std::string>& overrides) {

@@ -1,8 +1,12 @@
 // Run output: frames (.vtu + .pvd), energy and probe histories (CSV), and the run loop.
 #include "hexdem/solver/output.hpp"
 
+#include <fcntl.h>
 #include <omp.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <algorithm>
 #include <array>
@@ -18,6 +22,7 @@
 #include <stdexcept>
 
 #include "hexdem/error.hpp"
+#include "hexdem/solver/case_toml.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/meshing/toml_values.hpp"
 #include "hexdem/solver/run_summary.hpp"
@@ -33,10 +38,33 @@ std::string frame_name(const std::string& name, std::int64_t step) {
   return name + buf;
 }
 
-void csv_number(std::ostream& o, double v) {
+void csv_number(CsvFile& o, double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.10g", v);
-  o << buf;
+  o << std::string_view(buf);
+}
+
+std::string errno_reason() { return std::strerror(errno); }
+
+/// Creates `dir` (and its parents); InputError naming the folder and the reason otherwise.
+void make_folder(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(dir + ": cannot create the output folder (a file of that name exists)");
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create the output folder (" + ec.message() + ")");
+}
+
+/// Next output time after `now` for outputs every `interval` from `next`: the smallest
+/// next + k interval > now. Jumps instead of stepping when the interval is so small that
+/// stepping would take long or, below the resolution of `next`, never end.
+double next_output_time(double next, double interval, double now) {
+  if (next > now) return next;
+  const double stepped = next + interval;
+  if (stepped > now) return stepped;
+  double jumped = interval * (std::floor(now / interval) + 1.0);
+  if (!(jumped > now)) jumped = std::nextafter(now, std::numeric_limits<double>::infinity());
+  return jumped;
 }
 
 /// Names of the point arrays of a frame (a boundary set of one of these names is written
@@ -83,6 +111,48 @@ void add_bodies_and_sets(const meshing::Lattice& lattice, io::LineGrid& g) {
 }
 
 }  // namespace
+
+CsvFile::~CsvFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void CsvFile::open(const std::string& path, bool append) {
+  path_ = path;
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | (append ? O_APPEND : O_TRUNC) | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw InputError(path + ": cannot write (" + errno_reason() + ")");
+  written_ = 0;
+  if (append) {
+    const off_t end = ::lseek(fd_, 0, SEEK_END);
+    if (end < 0) throw InputError(path + ": cannot write (" + errno_reason() + ")");
+    written_ = static_cast<std::uint64_t>(end);
+  }
+}
+
+void CsvFile::flush() {
+  // Linux copies a write() page by page and stops at a page boundary when the process is
+  // killed, so one large write can leave part of a row. Each write() here stays inside one
+  // 4 KiB page of the file: a kill can then cut a row only between the two writes of a row
+  // that straddles a page boundary.
+  constexpr std::uint64_t kPage = 4096;
+  std::size_t done = 0;
+  while (done < buffer_.size()) {
+    const std::size_t room = static_cast<std::size_t>(kPage - written_ % kPage);
+    const std::size_t count = std::min(room, buffer_.size() - done);
+    const ssize_t n = ::write(fd_, buffer_.data() + done, count);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw InputError(path_ + ": write failed (" + (n < 0 ? errno_reason() : "no progress") + ")");
+    done += static_cast<std::size_t>(n);
+    written_ += static_cast<std::uint64_t>(n);
+  }
+  buffer_.clear();
+}
+
+void CsvFile::close() {
+  if (fd_ < 0) return;
+  flush();
+  const int fd = std::exchange(fd_, -1);
+  if (::close(fd) != 0) throw InputError(path_ + ": write failed (" + errno_reason() + ")");
+}
 
 io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts) {
   const Model& m = solver.model();
@@ -257,12 +327,12 @@ void RunOutput::save_state(RunState& state) {
   state.frames = pvd_;
   state.last_frame = last_frame_;
   // The size on disk after a flush (tellp() of a stream opened to append is not the size).
-  auto bytes = [](std::ofstream& f, const std::string& path) -> std::uint64_t {
+  auto bytes = [](CsvFile& f, const std::string& path) -> std::uint64_t {
     if (!f.is_open()) return 0;
     f.flush();
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(path, ec);
-    if (!f || ec) throw std::runtime_error(path + ": cannot write before the checkpoint");
+    if (ec) throw std::runtime_error(path + ": cannot write before the checkpoint");
     return static_cast<std::uint64_t>(size);
   };
   state.energy_bytes = bytes(energy_, energy_path_);
@@ -278,20 +348,22 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   name_ = c.name;
   compression_level_ = c.output.compression_level;
   frame_dir_ = (fs::path(dir_) / name_).string();
+  make_folder(dir_);
+  make_folder(frame_dir_);
   std::error_code ec;
-  fs::create_directories(frame_dir_, ec);
-  if (ec) throw std::runtime_error(frame_dir_ + ": cannot create folder (" + ec.message() + ")");
   // Old frames of this case would be listed by nobody but could confuse a reader: remove them
   // (on a restart, those after the checkpoint).
   std::vector<std::string> keep;
   if (resume != nullptr)
     for (const io::PvdEntry& e : resume->frames) keep.push_back(fs::path(e.file).filename().string());
-  for (const auto& e : fs::directory_iterator(frame_dir_)) {
-    const std::string f = e.path().filename().string();
-    if (f.rfind(name_ + "_", 0) == 0 && e.path().extension() == ".vtu" &&
+  for (fs::directory_iterator it(frame_dir_, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string f = it->path().filename().string();
+    std::error_code rm;
+    if (f.rfind(name_ + "_", 0) == 0 && it->path().extension() == ".vtu" &&
         std::find(keep.begin(), keep.end(), f) == keep.end())
-      fs::remove(e.path(), ec);
+      fs::remove(it->path(), rm);
   }
+  if (ec) throw InputError(frame_dir_ + ": cannot list the folder (" + ec.message() + ")");
   pvd_path_ = (fs::path(dir_) / (name_ + ".pvd")).string();
   energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
   probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
@@ -317,16 +389,14 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     fs::remove(pvd_path_, ec);
   }
 
-  energy_.open(energy_path_, mode);
-  if (!energy_) throw std::runtime_error(energy_path_ + ": cannot write");
+  energy_.open(energy_path_, resume != nullptr);
   if (resume == nullptr)
     energy_ << "time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,friction,"
                "input,total,relative_error\n";
 
   if (resume == nullptr) fs::remove(probes_path_, ec);
   if (!c.probes.empty()) {
-    probes_.open(probes_path_, mode);
-    if (!probes_) throw std::runtime_error(probes_path_ + ": cannot write");
+    probes_.open(probes_path_, resume != nullptr);
     std::ostringstream header;
     header << "time,step";
     const Model& m = solver.model();
@@ -364,8 +434,7 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
 
   if (resume == nullptr) fs::remove(bodies_path_, ec);
   if (!c.output.body_history.empty()) {
-    bodies_.open(bodies_path_, mode);
-    if (!bodies_) throw std::runtime_error(bodies_path_ + ": cannot write");
+    bodies_.open(bodies_path_, resume != nullptr);
     // Body index = position in the outline (the lattice's `body` numbers).
     std::vector<std::string> names;
     for (const meshing::BodyOutline& b : c.outline.bodies) names.push_back(b.name);
@@ -388,7 +457,17 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   }
 }
 
+void RunOutput::flush_csvs() {
+  for (CsvFile* f : {&energy_, &probes_, &bodies_})
+    if (f->is_open()) f->flush();
+}
+
+void RunOutput::finish() {
+  for (CsvFile* f : {&energy_, &probes_, &bodies_}) f->close();
+}
+
 void RunOutput::write_frame(const Solver& solver) {
+  flush_csvs();
   io::LineGrid g = frame_grid(solver, contact_cells_);
   const std::string file = frame_name(name_, solver.step_index());
   const std::string path = (fs::path(frame_dir_) / file).string();
@@ -410,7 +489,7 @@ void RunOutput::write_energy(const Solver& solver) {
     csv_number(energy_, v);
   }
   energy_ << "\n";
-  energy_.flush();
+  flush_csvs();
 }
 
 void RunOutput::write_probes(const Solver& solver) {
@@ -507,6 +586,14 @@ int run_case(const Case& c, const RunOptions& options) {
     dir = fs::path(options.restart).parent_path().string();
     if (dir.empty()) dir = ".";
   }
+  // Checked before Solver::total_steps converts it to an integer (a case file's dt is
+  // checked by the reader; this catches a computed one).
+  if (const double n = c.time.end / solver.dt(); !(n <= kMaxSteps)) {
+    char text[200];
+    std::snprintf(text, sizeof text, "[time] end = %.6g s at dt = %.6g s needs %.6g steps, more than %.6g",
+                  c.time.end, solver.dt(), n, kMaxSteps);
+    throw InputError(c.source + ": " + text + "; lower end or raise dt");
+  }
   RunState run;
   const bool restart = !options.restart.empty();
   if (restart) read_checkpoint(options.restart, solver, run);
@@ -558,17 +645,18 @@ int run_case(const Case& c, const RunOptions& options) {
   bool ok = true;
   bool frame = false, probe = false, energy_row = false, warned = false;
   // Built once: a std::function made per step would allocate per step.
+  // The CSV rows of t_n first: write_frame flushes them before the .pvd lists the frame.
   const std::function<void(const Solver&)> at_tn = [&](const Solver& s) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (frame) out.write_frame(s);
-    if (energy_row) {
-      out.write_energy(s);
-      max_error = std::max(max_error, std::abs(s.energy().relative_error()));
-    }
     if (probe) {
       out.write_probes(s);
       out.write_bodies(s);
     }
+    if (energy_row) {
+      out.write_energy(s);
+      max_error = std::max(max_error, std::abs(s.energy().relative_error()));
+    }
+    if (frame) out.write_frame(s);
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   for (std::int64_t n = first_step; n <= steps; ++n) {
@@ -584,11 +672,11 @@ int run_case(const Case& c, const RunOptions& options) {
       std::fprintf(stderr, "%shexdem: warning: %s\n", options.progress ? "\n" : "", solver.energy_warning().c_str());
     }
     if (!ok) break;
-    if (frame_dt > 0) while (next_frame <= t + 0.5 * dt) next_frame += frame_dt;
-    if (probe) while (next_probe <= t + 0.5 * dt) next_probe += (probe_dt > 0 ? probe_dt : dt);
+    if (frame_dt > 0) next_frame = next_output_time(next_frame, frame_dt, t + 0.5 * dt);
+    if (probe) next_probe = next_output_time(next_probe, probe_dt > 0 ? probe_dt : dt, t + 0.5 * dt);
     // A checkpoint holds the state after step n (at t_{n+1}), with this step's output done.
     if (checkpoint_dt > 0 && !last && t >= next_checkpoint - 0.5 * dt) {
-      while (next_checkpoint <= t + 0.5 * dt) next_checkpoint += checkpoint_dt;
+      next_checkpoint = next_output_time(next_checkpoint, checkpoint_dt, t + 0.5 * dt);
       const auto t0 = std::chrono::steady_clock::now();
       run.next_frame = next_frame;
       run.next_probe = next_probe;
@@ -617,6 +705,7 @@ int run_case(const Case& c, const RunOptions& options) {
     const BlowUp& b = solver.blow_up();
     // Every frame written passed the checks of its step (Solver::advance checks before it
     // hands the state out), so the last one is good.
+    out.finish();
     std::fprintf(stderr,
                  "hexdem: error: %s at step %lld (t = %.6g s): %s; dt = %.6g s, critical %.6g s; "
                  "last good frame: %s\n",
@@ -628,6 +717,7 @@ int run_case(const Case& c, const RunOptions& options) {
                      " at t = " + meshing::format_number(b.time) + " s: " + b.reason);
     return kExitFailure;
   }
+  out.finish();
   write_run_summary(summary_path, run_summary(solver));
   out.write_status("completed");
   if (!options.quiet) {

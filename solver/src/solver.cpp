@@ -36,6 +36,8 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
   meshing::GeneratorOptions go;
   go.mode = c.geometry == Geometry::Axisymmetric ? meshing::GeometryMode::Axisymmetric
                                                  : meshing::GeometryMode::Plane;
+  go.max_disks = c.max_disks;
+  go.max_disks_hint = "[mesh] max_disks = N or --max-disks N";
   return meshing::generate_lattice(c.outline, go, report);
 }
 

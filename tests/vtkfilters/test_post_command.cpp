@@ -278,3 +278,157 @@ TEST(PostLibrary, ReadSeriesSortsFramesAndResolvesPaths) {
 }
 
 }  // namespace
+
+// ---- damaged frames, lying headers, full disks ---------------------------------------------
+// Each of these once ended in SIGFPE, SIGSEGV, SIGABRT, a stack overflow or std::bad_alloc,
+// or was believed (a wrong count, exit 0).
+
+std::string read_binary(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_binary(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+/// The good frame's bytes with `from` replaced by `to` (first occurrence).
+std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  std::string out = text;
+  if (at != std::string::npos) out.replace(at, from.size(), to);
+  return out;
+}
+
+/// Byte offset of the first array's data (just after the '_' of the appended data).
+std::size_t appended_start(const std::string& text) {
+  return text.find('_', text.find("<AppendedData")) + 1;
+}
+
+void put_u64(std::string& text, std::size_t at, std::uint64_t v) {
+  for (int k = 0; k < 8; ++k) text[at + k] = static_cast<char>((v >> (8 * k)) & 0xff);
+}
+
+TEST(PostHostile, DamagedFramesAreInputErrors) {
+  const fs::path dir = work_dir("hostile");
+  write_cut_frame(dir / "good.vtu", 1e-5, true);
+  const std::string good = read_binary(dir / "good.vtu");
+  ASSERT_NE(good.find("header_type=\"UInt64\""), std::string::npos);
+  ASSERT_NE(good.find("NumberOfPoints=\"120\""), std::string::npos);
+  const std::size_t data = appended_start(good);
+
+  std::vector<std::pair<std::string, std::string>> cases;  // file content, expected part
+  cases.push_back({replaced(good, "header_type=\"UInt64\"", "header_type=\"UInt32\""), "compressed block size 0"});
+  {
+    std::string t = good;
+    put_u64(t, data + 8, 0);  // block size of the first array
+    cases.push_back({t, "compressed block size 0"});
+  }
+  {
+    std::string t = good;
+    put_u64(t, data + 24, std::uint64_t{1} << 40);  // compressed size of its first block
+    cases.push_back({t, "compressed block of 1099511627776 bytes is larger than the file"});
+  }
+  cases.push_back({replaced(good, "NumberOfPoints=\"120\"", "NumberOfPoints=\"-5\""),
+                   "NumberOfPoints=\"-5\" is not a non-negative integer"});
+  cases.push_back({replaced(good, "NumberOfPoints=\"120\"", "NumberOfPoints=\"999999999\""),
+                   "but NumberOfPoints=999999999 makes"});
+  cases.push_back({replaced(good, "NumberOfCells=", "NumberOfCells=\"4000000000\" x="),
+                   "but NumberOfCells=4000000000 makes"});
+  cases.push_back({replaced(good, "byte_order=\"LittleEndian\"", "byte_order=\"BigEndian\""),
+                   "compressed blocks do not fit in the file"});
+  {
+    std::string nest;
+    for (int k = 0; k < 200000; ++k) nest += "<a>";
+    for (int k = 0; k < 200000; ++k) nest += "</a>";
+    cases.push_back({replaced(good, "<UnstructuredGrid>", nest + "<UnstructuredGrid>"),
+                     "XML elements nested deeper than 64 levels"});
+  }
+  // A NumberOfCells that is smaller than the cells the file holds was believed: "2 broken
+  // bonds" of a frame with more.
+  cases.push_back({replaced(good, "NumberOfCells=", "NumberOfCells=\"2\" x="), "but NumberOfCells=2 makes"});
+  cases.push_back({good.substr(0, data + 40), "runs past the end of the file"});
+  {
+    // Found by the fuzzer: a repeated array element made VTK's reader crash (SIGSEGV).
+    const std::size_t at = good.find("<DataArray type=\"Float64\" Name=\"shear_force\"");
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t end = good.find('\n', at) + 1;
+    std::string t = good;
+    t.insert(end, good.substr(at, end - at));
+    cases.push_back({t, "array 'shear_force' appears twice in <CellData>"});
+  }
+  // Found by the fuzzer under ASan: NumberOfTuples="4000000000" of a String array made VTK
+  // allocate 128 GB; a repeated <AppendedData> tag made it read a garbage block count
+  // (std::length_error, an internal error).
+  cases.push_back({replaced(good, "Name=\"geometry\" NumberOfTuples=\"1\"", "Name=\"geometry\" NumberOfTuples=\"4000000000\""),
+                   "NumberOfTuples=4000000000 strings cannot fit in"});
+  cases.push_back({replaced(good, "<AppendedData encoding=\"raw\">", "<AppendedData encoding=\"raw\">\n  <AppendedData encoding=\"raw\">"),
+                   "damaged AppendedData (text before its '_' marker)"});
+
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::string name = "bad" + std::to_string(k) + ".vtu";
+    write_binary(dir / name, cases[k].first);
+    for (const char* a : {"cracks", "fragments"}) {
+      SCOPED_TRACE(std::string(a) + " " + name);
+      expect_input_error(dir, std::string(a) + " " + name + " -o out", name + ": ");
+      const Result r = post(dir, std::string(a) + " " + name + " -o out");
+      EXPECT_NE(r.err.find(cases[k].second), std::string::npos) << r.err;
+    }
+  }
+  // The good frame still reads.
+  EXPECT_EQ(post(dir, "cracks good.vtu -o ok").code, 0);
+}
+
+TEST(PostHostile, NonNumericTimestepIsRefused) {
+  // Was: read as t = 0.
+  const fs::path dir = work_dir("hostile_pvd");
+  write_series3(dir);
+  const std::string pvd = read_binary(dir / "run.pvd");
+  const std::size_t at = pvd.find("timestep=\"");
+  ASSERT_NE(at, std::string::npos);
+  std::string bad = pvd;
+  bad.insert(at + 10, "abc");
+  write_binary(dir / "bad.pvd", bad);
+  expect_input_error(dir, "cracks bad.pvd --all -o out", "which is not a finite number");
+  std::string deep = "<VTKFile type=\"Collection\"><Collection>";
+  for (int k = 0; k < 200000; ++k) deep += "<a>";
+  write_binary(dir / "deep.pvd", deep);
+  expect_input_error(dir, "cracks deep.pvd -o out", "deep.pvd: XML elements nested deeper than 64");
+}
+
+TEST(PostHostile, FullDiskLeavesNoTruncatedFileAndNoSuccessLine) {
+  // Was: frame_000007.vtp of 4,096 bytes under its final name, a success line printed before
+  // the failure, and the write error blamed on the next input frame.
+  const fs::path dir = work_dir("hostile_disk");
+  write_series3(dir);
+  const fs::path disk = dir / "disk";
+  fs::create_directories(disk);
+  if (std::system(("mount -t tmpfs -o size=12k tmpfs '" + disk.string() + "' 2> /dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  const Result r = post(dir, "fragments run.pvd --all -o disk/out");
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(disk))
+    if (e.is_regular_file()) files.push_back(e.path());
+  // Every file that has its final name must be complete: VTK reads it without error.
+  for (const fs::path& f : files) {
+    EXPECT_EQ(f.string().find(".tmp"), std::string::npos) << f;
+    if (f.extension() == ".vtu") {
+      vtkNew<vtkXMLUnstructuredGridReader> reader;
+      reader->SetFileName(f.c_str());
+      reader->Update();
+      EXPECT_EQ(reader->GetErrorCode(), 0UL) << f;
+      EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 120) << f;
+    }
+  }
+  EXPECT_EQ(std::system(("umount '" + disk.string() + "'").c_str()), 0);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  ASSERT_EQ(lines(r.err).size(), 1U) << r.err;
+  EXPECT_NE(r.err.find("disk/out"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("cannot write the file"), std::string::npos) << r.err;
+  for (const char* input : {"frames/f0.vtu", "frames/f1.vtu", "frames/f2.vtu"})
+    EXPECT_EQ(r.err.find(input), std::string::npos) << "blames an input frame: " << r.err;
+}

@@ -8,6 +8,7 @@
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkDataObject.h>
+#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkHexDEMCrackMap.h>
 #include <vtkHexDEMFragmentCounter.h>
@@ -29,6 +30,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -42,6 +46,8 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/text.hpp"
+#include "vtu_check.hpp"
 
 namespace hexdem::post {
 namespace {
@@ -134,31 +140,37 @@ double field_number(vtkFieldData* fd, const char* name) {
   return (a && a->GetNumberOfTuples() > 0) ? a->GetComponent(0, 0) : kNaN;
 }
 
-/// Writes `content` to `path` through a temporary file and a rename.
+/// Writes `content` to `path` through a temporary file and a rename; InputError naming the
+/// path and the reason (a full disk, a folder of that name) on failure, leaving nothing.
 void write_text_atomic(const std::string& path, const std::string& content) {
   const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << content;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw InputError(path + ": cannot write the file");
-    }
-  }
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) throw InputError(path + ": cannot write the file (" + std::strerror(errno) + ")");
+  const bool written = std::fwrite(content.data(), 1, content.size(), f) == content.size() &&
+                       std::fflush(f) == 0;
+  const int write_errno = errno;
+  const bool closed = std::fclose(f) == 0;
   std::error_code ec;
+  if (!written || !closed) {
+    fs::remove(tmp, ec);
+    throw InputError(path + ": cannot write the file (" +
+                     std::strerror(!written ? write_errno : errno) + ")");
+  }
   fs::rename(tmp, path, ec);
   if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path + ": cannot write the file");
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw InputError(path + ": cannot write the file (" + ec.message() + ")");
   }
 }
 
-/// Writes a filter output as a VTK XML file (appended raw binary, zlib), atomically.
-void write_vtk(const std::string& path, vtkDataObject* data) {
+/// Writes a filter output as a VTK XML file (appended raw binary, zlib), atomically: the
+/// temporary file becomes `path` only when the writer reports no error (VTK's Write() returns
+/// success on a full disk; its error code does not).
+void write_vtk(const std::string& path, vtkDataObject* data, VtkMessageSink& sink) {
   const std::string tmp = path + ".tmp";
   int ok = 0;
+  unsigned long error = vtkErrorCode::NoError;
   if (auto* grid = vtkUnstructuredGrid::SafeDownCast(data)) {
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
     writer->SetInputData(grid);
@@ -167,7 +179,9 @@ void write_vtk(const std::string& path, vtkDataObject* data) {
     writer->EncodeAppendedDataOff();
     writer->SetCompressorTypeToZLib();
     writer->SetHeaderTypeToUInt64();
+    errno = 0;
     ok = writer->Write();
+    error = writer->GetErrorCode();
   } else if (auto* poly = vtkPolyData::SafeDownCast(data)) {
     vtkNew<vtkXMLPolyDataWriter> writer;
     writer->SetInputData(poly);
@@ -176,17 +190,26 @@ void write_vtk(const std::string& path, vtkDataObject* data) {
     writer->EncodeAppendedDataOff();
     writer->SetCompressorTypeToZLib();
     writer->SetHeaderTypeToUInt64();
+    errno = 0;
     ok = writer->Write();
+    error = writer->GetErrorCode();
   }
+  const int write_errno = errno;
+  sink.take();  // the writer's own report must not be blamed on the next input frame
   std::error_code ec;
-  if (ok != 1) {
+  if (ok != 1 || error != vtkErrorCode::NoError) {
     fs::remove(tmp, ec);
-    throw InputError(path + ": cannot write the file");
+    std::string reason = error == vtkErrorCode::OutOfDiskSpaceError
+                             ? std::string("no space left on the device")
+                             : (write_errno != 0 ? std::string(std::strerror(write_errno))
+                                                 : "VTK writer error code " + std::to_string(error));
+    throw InputError(path + ": cannot write the file (" + reason + ")");
   }
   fs::rename(tmp, path, ec);
   if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path + ": cannot write the file");
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw InputError(path + ": cannot write the file (" + ec.message() + ")");
   }
 }
 
@@ -199,6 +222,8 @@ vtkSmartPointer<vtkUnstructuredGrid> read_frame(const std::string& path, VtkMess
     sink.take();
     throw InputError(path + ": not a VTK XML unstructured grid (.vtu) file");
   }
+  sink.take();
+  check_vtu_file(path);
   reader->SetFileName(path.c_str());
   reader->Update();
   const std::string vtk_text = sink.take();
@@ -211,8 +236,9 @@ vtkSmartPointer<vtkUnstructuredGrid> read_frame(const std::string& path, VtkMess
   }
   if (!reports.errors.empty() || vtk_text.find("ERR") != std::string::npos) {
     const std::string why = !reports.errors.empty() ? reports.errors.front() : "corrupt file";
-    throw InputError(path + ": cannot read the frame (" + why + ")");
+    throw InputError(path + ": cannot read the frame (" + meshing::one_line(why) + ")");
   }
+  check_grid(path, grid);
   return grid;
 }
 
@@ -434,6 +460,17 @@ std::vector<SeriesFrame> read_series(const std::string& path) {
   if (ext != ".pvd") {
     throw InputError(path + ": unknown input format '" + ext + "' (expected .pvd or .vtu)");
   }
+  {
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec) throw InputError(path + ": cannot read the file (" + ec.message() + ")");
+    if (size > kMaxPvdBytes)
+      throw InputError(path + ": file larger than " + std::to_string(kMaxPvdBytes) + " bytes (not a .pvd?)");
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    check_xml_nesting(path, text.str());
+  }
   VtkMessageSink sink;
   vtkNew<vtkXMLDataParser> parser;
   parser->SetFileName(path.c_str());
@@ -456,7 +493,17 @@ std::vector<SeriesFrame> read_series(const std::string& path) {
                        std::to_string(part) + "\")");
     }
     double time = 0.0;
-    e->GetScalarAttribute("timestep", time);
+    if (const char* stamp = e->GetAttribute("timestep")) {
+      std::string_view v(stamp);
+      while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front()))) v.remove_prefix(1);
+      while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back()))) v.remove_suffix(1);
+      if (!v.empty() && v.front() == '+') v.remove_prefix(1);
+      const auto r = std::from_chars(v.data(), v.data() + v.size(), time);
+      if (v.empty() || r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(time))
+        throw InputError(path + ": <DataSet file=\"" + meshing::escape_text(file) +
+                         "\"> has timestep=\"" + meshing::escape_text(stamp) +
+                         "\", which is not a finite number");
+    }
     const fs::path p(file);
     frames.push_back({time, (p.is_absolute() ? p : folder / p).string()});
   }
@@ -517,6 +564,7 @@ std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::
   std::vector<std::string> written;
   std::set<std::string> warned;
   std::string csv = csv_header_line(summary_header(o));
+  std::string summary;
   std::string pvd;
   for (std::size_t k = 0; k < selected.size(); ++k) {
     const SeriesFrame& frame = selected[k];
@@ -554,14 +602,16 @@ std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::
       } else {
         target = base + extension;
       }
-      write_vtk(target, filter->GetOutputDataObject(0));
+      write_vtk(target, filter->GetOutputDataObject(0), sink);
       written.push_back(target);
     }
     if (!o.quiet) {
-      out << "hexdem post " << analysis_name(o.analysis) << ": " << frame.path
-          << " (t = " << format_number(time) << " s): " << description;
-      if (!target.empty()) out << " -> " << target;
-      out << "\n";
+      // Printed once everything is written: no success line before a failure.
+      std::ostringstream line;
+      line << "hexdem post " << analysis_name(o.analysis) << ": " << frame.path
+           << " (t = " << format_number(time) << " s): " << description;
+      if (!target.empty()) line << " -> " << target;
+      summary += line.str() + "\n";
     }
     if (!many && o.analysis == Analysis::Fragments) {
       csv = table_csv(vtkTable::SafeDownCast(filter->GetOutputDataObject(1)));
@@ -579,7 +629,7 @@ std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::
   const std::string csv_path = base + ".csv";
   write_text_atomic(csv_path, csv);
   written.push_back(csv_path);
-  if (!o.quiet) out << "  table -> " << csv_path << "\n";
+  if (!o.quiet) out << summary << "  table -> " << csv_path << "\n";
   return written;
 }
 

@@ -21,10 +21,40 @@
 
 namespace hexdem::meshing {
 
+/// Default limit on the number of disks of one generation (GeneratorOptions::max_disks).
+inline constexpr std::int64_t kDefaultMaxDisks = 100'000'000;
+
+/// Memory `hexdem mesh` needs per disk, for messages [bytes]: the disk arrays (x, y, radius,
+/// cell area and centroid, kind, body, material: 57 bytes), three bonds (10 bytes each) and
+/// the generator's and writer's working arrays. Measured: 143 MB peak resident for a
+/// 1,155,578-disk rectangle (docs/outline-format.md, "Size limit").
+inline constexpr double kLatticeBytesPerDisk = 125.0;
+
 struct GeneratorOptions {
   LatticeOptions lattice;                       ///< defaults for bodies that set none
   GeometryMode mode = GeometryMode::Plane;
+  /// Refuse (InputError, before allocating) an outline whose estimated disk count
+  /// (region area / hexagon area, summed over the bodies) exceeds this.
+  std::int64_t max_disks = kDefaultMaxDisks;
+  /// Appended to the too-many-disks message: how to raise the limit where the options
+  /// came from (e.g. "--max-disks N").
+  std::string max_disks_hint = "--max-disks N";
 };
+
+/// Ceiling the outline readers apply (check_lattice_size before validating the loops, so that
+/// absurd outlines are refused before CGAL works on millions of arc chords); the generator
+/// then applies GeneratorOptions::max_disks.
+inline constexpr std::int64_t kMaxDisksCeiling = 1'000'000'000'000;
+
+/// Throws InputError, before anything is allocated, when a lattice index of a body would pass
+/// 2^30 or the estimated disk count (region area / hexagon area 2 sqrt(3) r^2, at least one
+/// per lattice row, summed over the bodies) exceeds options.max_disks. Bodies need a radius
+/// (from the body or options.lattice).
+void check_lattice_size(const Outline& outline, const GeneratorOptions& options);
+
+/// Point array names of mesh and result frames that a boundary set may not take (a set is
+/// written as a point array of its name).
+bool is_reserved_array_name(const std::string& name);
 
 /// Figures of a generation, for the summary line and tests.
 struct GeneratorReport {
@@ -43,7 +73,10 @@ struct GeneratorReport {
 
 /// Generates the lattice. The outline must have been through validate_and_orient().
 /// Throws InputError for a radius <= 0, a body that receives no disk (radius too large for the
-/// region), or, in axisymmetric mode, a region reaching r < 0 or a disk with zero weight.
+/// region), an outline that would need more than options.max_disks disks or a lattice index
+/// beyond 2^30 (both checked before anything is allocated), a boundary set named like a
+/// point array (is_reserved_array_name), or, in axisymmetric mode, a region reaching r < 0
+/// or a disk with zero weight.
 Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options,
                          GeneratorReport* report = nullptr);
 

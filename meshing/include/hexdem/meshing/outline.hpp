@@ -59,16 +59,24 @@ struct Outline {
 /// Signed area of a loop [m^2] (positive when counter-clockwise).
 double signed_area(const Loop& loop);
 
+/// Most chords flatten_arc makes of one arc.
+inline constexpr double kMaxArcChords = 1e6;
+
 /// Flattens a circular arc from `a` to `b` about `center` (counter-clockwise if ccw) into
 /// chords whose sagitta is at most `chord_error` [m]. Returns the points after `a`, ending
-/// with `b` exactly.
+/// with `b` exactly. Throws InputError (without a file name: callers add it) when the arc
+/// would need more than kMaxArcChords chords.
 std::vector<Vec2> flatten_arc(Vec2 a, Vec2 b, Vec2 center, bool ccw, double chord_error);
+
+/// Largest coordinate magnitude of an outline point [m] that validate_and_orient accepts.
+inline constexpr double kMaxCoordinate = 1e15;
 
 /// Orients outers counter-clockwise and holes clockwise, and checks, with CGAL's exact
 /// predicates, that every loop is simple (no self-intersection, at least 3 distinct
 /// vertices, non-zero area), every hole lies inside one outer loop of its body, loops of a
-/// body do not cross or overlap, and that no two bodies overlap. Throws InputError naming
-/// the loop (Loop::where) and the offending point.
+/// body do not cross or overlap, that no two bodies overlap and that every coordinate is
+/// finite and at most kMaxCoordinate in magnitude. Throws InputError naming the loop
+/// (Loop::where) and the offending point.
 void validate_and_orient(Outline& outline);
 
 }  // namespace hexdem::meshing

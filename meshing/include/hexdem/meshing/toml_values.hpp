@@ -5,6 +5,7 @@
 
 #include <toml++/toml.h>
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -17,11 +18,20 @@ std::string format_number(double value);
 /// A short one-line rendering of a TOML value for messages (long arrays and tables are cut).
 std::string describe(const toml::node& node);
 
-/// Parses TOML text; a syntax error becomes InputError "SOURCE:LINE:COL: TOML parse error: ...".
+/// Deepest nesting of keys (dots in one key) and of arrays / inline tables that parse_toml
+/// accepts.
+inline constexpr std::size_t kMaxTomlNesting = 256;
+
+/// Largest input file (outline, case, DXF) that read_text_file reads [bytes].
+inline constexpr std::size_t kMaxInputBytes = std::size_t{256} << 20;
+
+/// Parses TOML text; a syntax error becomes InputError "SOURCE:LINE:COL: TOML parse error: ...",
+/// nesting deeper than kMaxTomlNesting InputError "SOURCE:LINE:COL: key nested N levels deep".
 toml::table parse_toml(std::string_view text, const std::string& source_name);
 
-/// The contents of a file; InputError "PATH: cannot open file" if it cannot be read.
-std::string read_text_file(const std::string& path);
+/// The contents of a file; InputError "PATH: cannot open file" if it cannot be read, or
+/// "PATH: file larger than N bytes" beyond max_bytes (read no further: /dev/zero ends).
+std::string read_text_file(const std::string& path, std::size_t max_bytes = kMaxInputBytes);
 
 class TomlValues {
 public:
@@ -41,6 +51,8 @@ public:
   [[nodiscard]] double positive(const toml::node& node, const std::string& path) const;
   /// A string.
   [[nodiscard]] std::string text(const toml::node& node, const std::string& path) const;
+  /// A string without control characters (NUL, line breaks, ...): a name.
+  [[nodiscard]] std::string name(const toml::node& node, const std::string& path) const;
 
   [[nodiscard]] const std::string& source() const { return source_; }
 

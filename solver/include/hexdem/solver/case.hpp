@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/meshing/outline.hpp"
 #include "hexdem/solver/material.hpp"
 #include "hexdem/solver/time_function.hpp"
@@ -119,6 +120,8 @@ struct Case {
   ShearModel shear_model = ShearModel::LocalStrain;
 
   meshing::Outline outline;       ///< bodies (radius, angle, origin resolved per body)
+  /// Largest estimated disk count the mesh may have ([mesh] max_disks, `--max-disks`).
+  std::int64_t max_disks = meshing::kDefaultMaxDisks;
   std::vector<Material> materials;
   std::vector<BoundaryCondition> boundaries;
   std::vector<Load> loads;

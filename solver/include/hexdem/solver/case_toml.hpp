@@ -4,6 +4,7 @@
 /// materials, boundary conditions, loads, initial velocities, time control, outputs, probes.
 /// Every cross-reference (boundary sets, bodies, materials) is checked against the outline.
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,6 +12,17 @@
 #include "hexdem/solver/case.hpp"
 
 namespace hexdem::solver {
+
+/// Most time steps a run may take: [time] end / dt beyond this is refused as bad input.
+inline constexpr double kMaxSteps = 1e12;
+
+/// Longest case name ([case] name or the case file's stem) [characters]: the name is the
+/// stem of every output file (`<name>_000000000.vtu`, `<name>.energy.csv`).
+inline constexpr std::size_t kMaxCaseNameLength = 200;
+
+/// Why `name` cannot be a case name (a file stem: not empty, ".", "..", no '/', no control
+/// character, at most kMaxCaseNameLength characters), or empty if it can.
+std::string case_name_problem(const std::string& name);
 
 /// Reads a case file. Throws InputError "FILE:LINE: KEY: message (got VALUE)" on bad input.
 /// `overrides` are `--set` values "DOTTED.KEY=VALUE" applied to the file's TOML before it is

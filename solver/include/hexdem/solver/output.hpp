@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hexdem/io/vtu_writer.hpp"
@@ -18,10 +19,47 @@
 
 namespace hexdem::solver {
 
+/// A CSV file written in whole rows: rows collect in memory and reach the file at flush(),
+/// in writes that never cross a 4 KiB page of the file, so that a killed run leaves whole
+/// rows (except in the rare case that the kill falls between the two writes of a row that
+/// straddles a page boundary). Every write is checked:
+/// a failure throws InputError naming the file and the reason (a full disk is not success).
+class CsvFile {
+public:
+  CsvFile() = default;
+  CsvFile(const CsvFile&) = delete;
+  CsvFile& operator=(const CsvFile&) = delete;
+  ~CsvFile();
+
+  /// Creates (truncates) the file, or with `append` continues it (a restart); throws
+  /// InputError "PATH: cannot write (reason)".
+  void open(const std::string& path, bool append = false);
+  [[nodiscard]] bool is_open() const { return fd_ >= 0; }
+  CsvFile& operator<<(std::string_view text) {
+    buffer_.append(text);
+    return *this;
+  }
+  CsvFile& operator<<(char c) {
+    buffer_.push_back(c);
+    return *this;
+  }
+  CsvFile& operator<<(std::int64_t v) { return *this << std::string_view(std::to_string(v)); }
+  /// Writes the rows collected so far (call after a whole row).
+  void flush();
+  /// Flushes and closes, checking the close.
+  void close();
+
+private:
+  std::string path_;
+  std::string buffer_;
+  std::uint64_t written_ = 0;  ///< bytes in the file
+  int fd_ = -1;
+};
+
 class RunOutput {
 public:
   /// Creates DIR (and DIR/<case>/, emptied of old frames of this case) and opens the CSVs.
-  /// Throws std::runtime_error naming the path if it cannot.
+  /// Throws InputError naming the path and the reason if it cannot.
   RunOutput(const Solver& solver, const std::string& dir);
   /// Continues the output of a run from a checkpoint's `resume` state: keeps the frames it
   /// lists (removes later ones of this case), rewrites the .pvd with them, and truncates the
@@ -31,10 +69,12 @@ public:
   /// The output's part of a checkpoint: frames written, last frame, CSV sizes (flushed).
   void save_state(RunState& state);
 
-  /// Writes a frame of the state at t_n (call from Solver::advance's at_tn) and rewrites
-  /// the .pvd.
+  /// Writes a frame of the state at t_n (call from Solver::advance's at_tn, after the CSV
+  /// rows of t_n) and rewrites the .pvd. Flushes the CSVs first, so that every CSV reaches
+  /// at least the last frame the .pvd lists.
   void write_frame(const Solver& solver);
-  /// Appends the energy balance at t_n (requires advance(diagnostics = true)).
+  /// Appends the energy balance at t_n (requires advance(diagnostics = true)) and flushes
+  /// every CSV.
   void write_energy(const Solver& solver);
   /// Appends one row of probe values at t_n.
   void write_probes(const Solver& solver);
@@ -48,6 +88,10 @@ public:
   /// `completed` at its end, or `failed: <reason>` (docs/file-format.md). Analysis scripts
   /// refuse a series whose status is not `completed`.
   void write_status(const std::string& line);
+  /// Writes out and closes the CSVs (end of a run); throws InputError on a failed write.
+  void finish();
+  /// Writes what the CSVs hold (all whole rows).
+  void flush_csvs();
 
   [[nodiscard]] const std::string& pvd_path() const { return pvd_path_; }
   [[nodiscard]] const std::string& status_path() const { return status_path_; }
@@ -78,7 +122,7 @@ private:
   std::string dir_, frame_dir_, name_;
   std::string pvd_path_, energy_path_, probes_path_, bodies_path_, status_path_, last_frame_;
   std::vector<io::PvdEntry> pvd_;
-  std::ofstream energy_, probes_, bodies_;
+  CsvFile energy_, probes_, bodies_;
   std::vector<ProbePoint> probe_points_;
   /// Body histories: slot of each body index (-1: not recorded), and the per-slot sums
   /// (m, m x, m y, m vx, m vy, kinetic) reused for every row.
