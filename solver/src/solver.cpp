@@ -62,7 +62,7 @@ void Solver::setup_contact_resolution() {
   // step a contact as stiff as a bond has omega dt of 0.6-0.9, and a run with many contacts
   // (fragments) created several % of its input energy that way (docs/model.md, "Energy at
   // contacts"). A contact is therefore made no stiffer than its masses and the step resolve
-  // with omega dt <= 0.25 (about 12 steps per half period; O'Sullivan and Bray, Eng. Comput.
+  // with omega dt <= [contact] resolution, 0.25 by default (about 12 steps per half period; O'Sullivan and Bray, Eng. Comput.
   // 21 (2004) 278, recommend a fraction of the critical step for accuracy), which also
   // keeps it inside the stability bound of the dashpot, omega dt < 2 (sqrt(1 + eta^2) - eta).
   const double eta = case_.contact.damping;
