@@ -186,9 +186,9 @@ constexpr std::array<std::string_view, 5> kProbeFields{"displacement", "velocity
 
 // The keys of every table. The generic lambdas convert to Key::read for their record type.
 
-constexpr std::array<std::string_view, 14> kTopLevelKeys{
+constexpr std::array<std::string_view, 15> kTopLevelKeys{
     "case", "mesh",   "material", "boundary", "load",    "initial_velocity",
-    "time", "output", "probe",    "units",    "lattice", "body", "contact", "wall"};
+    "time", "output", "probe",    "units",    "lattice", "body", "contact", "wall", "random"};
 /// Top-level keys of an inline outline (docs/outline-format.md).
 constexpr std::array<std::string_view, 3> kOutlineKeys{"units", "lattice", "body"};
 
@@ -247,7 +247,7 @@ constexpr std::array<Key<MeshSettings>, 6> kMeshKeys{{
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
-constexpr std::array<Key<Material>, 18> kMaterialKeys{{
+constexpr std::array<Key<Material>, 20> kMaterialKeys{{
     {"id", true,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.id = static_cast<int>(in.integer(v, p, 0, INT_MAX));
@@ -286,6 +286,10 @@ constexpr std::array<Key<Material>, 18> kMaterialKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.rate_dependent = in.boolean(v, p); }},
     {"friction", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.friction = in.number(v, p); }},
+    {"fracture_energy", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.fracture_energy = in.number(v, p); }},
+    {"radial_cracks", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.radial_cracks = in.number(v, p); }},
 }};
 constexpr std::array<std::string_view, 4> kFailureKeys{"tensile_strength", "compressive_strength", "cohesion",
                                                        "friction_angle"};
@@ -458,6 +462,18 @@ constexpr std::array<Key<ContactControl>, 2> kContactKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.resolution = in.positive(v, p);
        if (!(o.resolution <= 0.9)) in.fail(v, p, "must lie in (0, 0.9] (omega dt of a contact, got " + describe(v) + ")");
+     }},
+}};
+
+constexpr std::array<Key<RandomField>, 3> kRandomKeys{{
+    {"seed", true,
+     [](const auto& in, const auto& v, const auto& p, auto& r) { r.seed = in.integer(v, p, 0, INT64_MAX); }},
+    {"correlation_length", true,
+     [](const auto& in, const auto& v, const auto& p, auto& r) { r.correlation_length = in.positive(v, p); }},
+    {"strength_cov", false,
+     [](const auto& in, const auto& v, const auto& p, auto& r) {
+       r.strength_cov = in.non_negative(v, p);
+       if (!(r.strength_cov <= 1.0)) in.fail(v, p, "must lie in [0, 1] (coefficient of variation, got " + describe(v) + ")");
      }},
 }};
 
@@ -961,6 +977,11 @@ void Reader::read_output(const toml::table& root, Case& c) const {
   }
   if (const toml::node* node = root.get("contact"))
     read_keys(table(*node, "contact"), "contact", Keys<ContactControl>(kContactKeys), c.contact);
+  if (const toml::node* node = root.get("random")) {
+    RandomField r;
+    read_keys(table(*node, "random"), "random", Keys<RandomField>(kRandomKeys), r);
+    c.random = r;
+  }
 }
 
 void Reader::read_probes(const toml::table& root, Case& c) const {

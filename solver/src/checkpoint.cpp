@@ -63,6 +63,7 @@ void visit_model(M& m, V& v) {
   v.state("minv_xx", m.minv_xx); v.state("minv_xy", m.minv_xy); v.state("minv_yy", m.minv_yy);
   v.state("strain_ok", m.strain_ok);
   v.state("eps_xx", m.eps_xx); v.state("eps_yy", m.eps_yy); v.state("eps_xy", m.eps_xy);
+  v.state("eps_off_xx", m.eps_off_xx); v.state("eps_off_yy", m.eps_off_yy); v.state("eps_off_xy", m.eps_off_xy);
   v.state("w_xx", m.w_xx); v.state("w_xy", m.w_xy); v.state("w_yx", m.w_yx); v.state("w_yy", m.w_yy);
   v.state("hoop_lambda", m.hoop_lambda); v.state("hoop_mu", m.hoop_mu);
   v.state("nu_zz", m.nu_zz);
@@ -99,6 +100,17 @@ void visit_model(M& m, V& v) {
   v.state("contact_damping_work", m.contact_damping_work);
   v.state("friction_work", m.friction_work);
   v.state("newly_broken", m.newly_broken);
+  // softening failure
+  v.state("any_softening", m.any_softening);
+  v.rebuilt("softening", m.softening);
+  v.state("damage", m.damage); v.state("kappa", m.kappa);
+  v.state("delta0", m.delta0); v.state("delta_f", m.delta_f);
+  v.state("cracking", m.cracking);
+  v.state("hoop_damage", m.hoop_damage); v.state("hoop_kappa", m.hoop_kappa);
+  v.state("hoop_e0", m.hoop_e0); v.state("hoop_ef", m.hoop_ef);
+  v.state("hoop_e_last", m.hoop_e_last);
+  v.state("hoop_fracture", m.hoop_fracture);
+  v.state("strength_scale", m.strength_scale); v.state("disk_strength_scale", m.disk_strength_scale);
   v.state("f_damp", m.f_damp);
   v.rebuilt("fx_intact", m.fx_intact);  // work space of settle_broken_bonds
   v.rebuilt("fy_intact", m.fy_intact);
@@ -119,6 +131,7 @@ void visit_model(M& m, V& v) {
   v.state("adj_other", m.adj_other); v.state("adj_sign", m.adj_sign);
   v.state("adj_ax", m.adj_ax); v.state("adj_ay", m.adj_ay);
   v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
+  v.rebuilt("event_weights", m.event_weights);  // work space of settle_broken_bonds
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "hexdem/laws/bilinear_kinematic.hpp"
 #include "hexdem/laws/contact.hpp"
+#include "hexdem/laws/softening.hpp"
 
 namespace hexdem::solver {
 namespace {
@@ -24,7 +25,7 @@ void disk_strain(Model& m, std::size_t i) {
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);
     const auto o = m.adj_other[k];
-    if (!m.bond_intact(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
+    if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
     const double ax = m.adj_ax[k], ay = m.adj_ay[k];
     const double dux = m.ux[o] - m.ux[i], duy = m.uy[o] - m.uy[i];
     gxx += dux * ax;
@@ -37,6 +38,12 @@ void disk_strain(Model& m, std::size_t i) {
   m.eps_yy[i] = gyx * mxy + gyy * myy;
   // On a mirror plane the strain is mirror-symmetric: no shear.
   m.eps_xy[i] = m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy));
+  if (!m.eps_off_xx.empty()) {
+    // Strain carried across changes of the fit (settle_broken_bonds): an affine offset.
+    m.eps_xx[i] -= m.eps_off_xx[i];
+    m.eps_yy[i] -= m.eps_off_yy[i];
+    if (!m.mirror_plane[i]) m.eps_xy[i] -= m.eps_off_xy[i];
+  }
 }
 
 void compute_disk_strains(Model& m) {
@@ -60,11 +67,76 @@ inline double hoop_strain(const Model& m, std::size_t i) {
 
 /// Axisymmetric hoop term of disk i: A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt
 /// (eps_rr + eps_zz)] [J] (physics.md section 10).
+/// With hoop cracking (damage D_h of a softening material's ring), the term is written as
+/// A b [s^2 / (2M) - lambda^2 tr^2 / (2M)], s = M eps_tt + lambda tr the hoop stress,
+/// M = lambda + 2 mu, tr = eps_rr + eps_zz, and the first part is multiplied by 1 - D_h while
+/// s > 0: a fully cracked ring carries no hoop stress (its in-plane energy becomes that of
+/// sigma_tt = 0), and the hoop energy stays convex in the strains.
 double hoop_energy(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
-  return m.cell_area[i] * m.weight[i] *
-         ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * (m.eps_xx[i] + m.eps_yy[i]));
+  const double tr = m.eps_xx[i] + m.eps_yy[i];
+  if (!m.hoop_damage.empty() && m.hoop_damage[i] > 0) {
+    const double M = lam + 2 * mu, s = M * eps_tt + lam * tr;
+    if (s > 0) return m.cell_area[i] * m.weight[i] * ((1 - m.hoop_damage[i]) * s * s - lam * lam * tr * tr) / (2 * M);
+  }
+  return m.cell_area[i] * m.weight[i] * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
+}
+
+/// Hoop stress sigma_tt of disk i [Pa] (without a J2 disk's plastic part) and the hoop term's
+/// stress on the in-plane strains, dE_h/d(tr) / (A b) [Pa]: lambda eps_tt undamaged.
+struct HoopStress {
+  double tt = 0, in_plane = 0;
+};
+inline HoopStress hoop_stress(const Model& m, std::size_t i) {
+  const double eps_tt = hoop_strain(m, i);
+  const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
+  const double tr = m.eps_xx[i] + m.eps_yy[i];
+  const double s = M * eps_tt + lam * tr;
+  if (!m.hoop_damage.empty() && m.hoop_damage[i] > 0 && s > 0) {
+    const double gs = (1 - m.hoop_damage[i]) * s;
+    return {gs, lam / M * (gs - lam * tr)};
+  }
+  return {s, lam * eps_tt};
+}
+
+/// Hoop cracking of the rings of softening materials (axisymmetric): Rankine on the hoop
+/// stress s starts it, then the hoop stress softens linearly in e = s / M down to zero at
+/// e_f = 2 G_F / (h f_t), with the crack band h = 2 pi b / n of n radial cracks (a radial
+/// crack is a meridian half-plane: it cuts every ring once, so n is a property of the body,
+/// not of the lattice). The dissipation of each step, dD A b s^2 / (2M), is >= 0.
+void update_hoop_damage(Model& m) {
+  const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
+    if (!(sp.G_F > 0) || !m.strain_ok[i] || m.hoop_damage[i] >= 1.0) continue;
+    const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
+    const double s = M * hoop_strain(m, i) + lam * (m.eps_xx[i] + m.eps_yy[i]);
+    const double e = s / M;
+    const double e_last = m.hoop_e_last[i];
+    m.hoop_e_last[i] = e;
+    if (m.hoop_ef[i] == 0) {
+      const double f_t = m.failure_laws[static_cast<std::size_t>(m.body[i])].f_t *
+                         (m.disk_strength_scale.empty() ? 1.0 : m.disk_strength_scale[i]);
+      if (!(s > f_t)) continue;
+      const double h = 2 * 3.14159265358979323846 * m.weight[i] / sp.radial_cracks;
+      m.hoop_e0[i] = e;
+      m.hoop_ef[i] = std::max(2 * sp.G_F / (h * f_t), e);
+      m.hoop_kappa[i] = e;
+    }
+    if (e > m.hoop_kappa[i]) {
+      const double d = laws::LinearSoftening::damage(e, m.hoop_e0[i], m.hoop_ef[i]);
+      if (d > m.hoop_damage[i]) {
+        // dD A b s^2 / (2M) less the half step of the force drop, as for the bonds:
+        // dD A b s e_prev / 2, e_prev the driver at the last step.
+        m.hoop_fracture[i] += (d - m.hoop_damage[i]) * m.cell_area[i] * m.weight[i] * 0.5 * s * e_last;
+        m.hoop_damage[i] = d;
+      }
+      m.hoop_kappa[i] = e;
+    }
+  }
 }
 
 /// Plastic correction of J2 disk i [J]: V [psi(eps - eps_p) - psi(eps)] = V mu (eps_p:eps_p -
@@ -174,6 +246,11 @@ double j2_hardening_energy(const Model& m, std::size_t i) {
   return m.cell_area[i] * m.weight[i] * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
 }
 
+/// 1 - D of a cracking bond's shear spring, 1 otherwise.
+inline double shear_factor(const Model& m, std::size_t b) {
+  return !m.damage.empty() && m.cracking[b] ? 1 - m.damage[b] : 1.0;
+}
+
 /// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2.
 inline double contact_cap(const Model& m, std::size_t b) {
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
@@ -192,6 +269,11 @@ inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
 double intact_bond_energy(const Model& m, std::size_t b) {
+  if (!m.damage.empty() && m.cracking[b]) {
+    // A cracking bond: (1 - D) on both springs, the normal one only while open.
+    const double g = 1 - m.damage[b], delta = m.len_prev[b] - m.rest_length[b];
+    return 0.5 * m.k_n[b] * delta * delta * (delta > 0 ? g : 1.0) + g * 0.5 * m.k_s[b] * m.u_s[b] * m.u_s[b];
+  }
   double e = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
   if (m.k_s[b] != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
   if (m.f_yield[b] > 0) {
@@ -238,6 +320,87 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
   m.len_prev[b] = len;
 }
 
+/// newly_broken code of a bond that starts to crack (it stays intact, leaves its disks' fits).
+constexpr std::uint8_t kStartsCracking = 8;
+
+/// Pass B for a bond of a softening material (docs/model.md, "Fracture energy and
+/// softening"); the shear measure u_s is already updated (rotation model: accumulated).
+/// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression fully) and
+/// (1 - D) k_s u_s. Damage grows with the elongation past its largest value, by the linear
+/// law between delta0 and delta_f, and books dD (k_n delta^2 + k_s u_s^2) / 2 >= 0 as fracture
+/// energy (only while that energy is positive: with k_s < 0 a growing D must not release
+/// negative energy). An intact bond checks the continuum stress at its midpoint: Rankine in
+/// tension starts cracking with delta_f = w_c |n . n1|; Mohr-Coulomb shear and crushing on the
+/// principal stresses break it (brittle); a bond of a disk without a local strain uses the
+/// bond criterion of Eq. 19.
+void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_s, double dt) {
+  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+  const auto l = static_cast<std::size_t>(m.failure_law[b]);
+  const SofteningParams& sp = m.softening[l];
+  const double delta = len - m.rest_length[b];
+  const double us = m.u_s[b];
+  if (m.cracking[b] && delta > m.kappa[b]) {
+    const double d = laws::LinearSoftening::damage(delta, m.delta0[b], m.delta_f[b]);
+    const double e = 0.5 * (m.k_n[b] * delta * delta + m.k_s[b] * us * us);
+    if (d > m.damage[b] && e > 0) {
+      // What the damage step releases at t_n, as for a break (docs/model.md, "Energy at a
+      // break"): the drop of the springs' energy, dD e, less the half step of the force drop
+      // that leap-frog's kinetic energy holds, (dt/2) v.dF = dD (k_n delta du_n + k_s u_s du_s) / 2
+      // with the increments of the last step. Together dD (k_n delta delta_prev + k_s u_s
+      // u_s_prev) / 2.
+      const double half = 0.5 * (m.k_n[b] * delta * du_n + m.k_s[b] * us * du_s);
+      m.fracture_energy[b] += (d - m.damage[b]) * (e - half);
+      m.damage[b] = d;
+      m.kappa[b] = delta;
+    }
+  }
+  const double g = 1 - m.damage[b];
+  m.f_n[b] = m.k_n[b] * delta * (delta > 0 ? g : 1.0);
+  m.f_s[b] = g * m.k_s[b] * us;
+  m.len_prev[b] = len;
+  if (m.cracking[b]) {
+    if (m.damage[b] >= 1.0) m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+    return;
+  }
+  // Eq. 20: the rate factors at the bond's strain rate; the random field's factor.
+  const laws::MohrCoulombFailure& law = m.failure_laws[l];
+  const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+  const laws::RateFactors rf = edot > 1.0 ? law.rate_factors(edot) : laws::RateFactors{};
+  const double scale = m.strength_factor(b);
+  if (!m.strain_ok[i] || !m.strain_ok[j]) {
+    const double sec = m.section[b] * scale;
+    const laws::BondStrength st{law.f_t * rf.tension * sec, law.f_c * rf.compression * sec,
+                                law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
+    const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], st);
+    if (mode != laws::FailureMode::None) m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
+    return;
+  }
+  // The continuum stress at the midpoint: C : (eps_i + eps_j) / 2 (with the hoop strain).
+  const double exx = 0.5 * (m.eps_xx[i] + m.eps_xx[j]), eyy = 0.5 * (m.eps_yy[i] + m.eps_yy[j]);
+  const double exy = 0.5 * (m.eps_xy[i] + m.eps_xy[j]), tr = exx + eyy;
+  const bool axisym = m.geometry == Geometry::Axisymmetric;
+  const double ett = axisym ? 0.5 * (hoop_strain(m, i) + hoop_strain(m, j)) : 0.0;
+  const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
+  const laws::Principal2D p = laws::principal_2d(iso + 2 * sp.mu * exx, iso + 2 * sp.mu * eyy, 2 * sp.mu * exy);
+  const double f_t = law.f_t * rf.tension * scale;
+  if (p.s1 > f_t && delta > 0) {
+    const double cosine = std::abs(m.nx[b] * p.n1x + m.ny[b] * p.n1y);
+    m.delta0[b] = m.kappa[b] = delta;
+    m.delta_f[b] = laws::LinearSoftening::crack_opening(sp.G_F, f_t) * cosine;
+    // A bond whose share of the opening is below its elastic stretch cannot soften: it breaks.
+    m.newly_broken[b] = m.delta_f[b] > delta ? kStartsCracking
+                                              : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+    return;
+  }
+  // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
+  const double s3 = m.geometry == Geometry::PlaneStress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
+  laws::StressMohrCoulomb mc = sp.mc;
+  mc.c *= rf.cohesion;
+  mc.f_c *= rf.compression;
+  const int mode = mc.mode(std::max(p.s1, s3), std::min(p.s2, s3), scale);
+  if (mode != 0) m.newly_broken[b] = static_cast<std::uint8_t>(1 + mode);
+}
+
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
 /// Shear, rotation model (Eq. 1-2): f_s += k_s [(du_j - du_i).s - (r_i dtheta_i + r_j dtheta_j)]
 /// with the increments of the last step. Shear, local-strain model: u_s = d s.(eps_i+eps_j)/2.n
@@ -249,6 +412,7 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
 void compute_bond_forces(Model& m, double dt) {
   const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
   const bool rotation = m.shear_model == ShearModel::Rotation;
+  const bool softening = m.any_softening;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
@@ -272,6 +436,12 @@ void compute_bond_forces(Model& m, double dt) {
       const double u_s = local_shear(m, static_cast<std::size_t>(b));
       du_s = u_s - m.u_s[b];
       m.u_s[b] = u_s;
+    }
+    if (softening && m.failure_law[b] >= 0 && m.softening[static_cast<std::size_t>(m.failure_law[b])].G_F > 0) {
+      // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
+      if (rotation) m.u_s[b] += du_s;
+      softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
+      continue;
     }
     if (m.f_yield[b] > 0) {
       // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
@@ -308,7 +478,7 @@ void compute_bond_forces(Model& m, double dt) {
       const auto l = static_cast<std::size_t>(m.failure_law[b]);
       const laws::MohrCoulombFailure& law = m.failure_laws[l];
       const laws::RateFactors rf = edot > 1.0 ? law.rate_factors(edot) : laws::RateFactors{};
-      const double sec = m.section[b];
+      const double sec = m.section[b] * m.strength_factor(static_cast<std::size_t>(b));
       const laws::BondStrength strength{law.f_t * rf.tension * sec, law.f_c * rf.compression * sec,
                                         law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
       const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], strength);
@@ -339,7 +509,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       }
     }
     if (hoop) {
-      const double c = m.cell_area[i] * m.weight[i] * m.hoop_lambda[i] * hoop_strain(m, i);
+      const double c = m.cell_area[i] * m.weight[i] * hoop_stress(m, i).in_plane;
       sxx += c;
       syy += c;
     }
@@ -388,7 +558,7 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
       }
       fx += s * f_x;
       fy += s * f_y;
-      if (strain_terms) {
+      if (strain_terms && m.bond_in_fit(b)) {
         // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
         const auto o = m.adj_other[k];
         const double ax = m.adj_ax[k], ay = m.adj_ay[k];
@@ -401,8 +571,7 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
     }
     if (hoop) {
       // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
-      const double eps_tt = m.ux[i] / m.weight[i];
-      double sigma_tt = (m.hoop_lambda[i] + 2 * m.hoop_mu[i]) * eps_tt + m.hoop_lambda[i] * (m.eps_xx[i] + m.eps_yy[i]);
+      double sigma_tt = hoop_stress(m, i).tt;
       if (m.any_j2) sigma_tt -= 2 * m.hoop_mu[i] * m.eps_p_33[i];
       fx -= m.cell_area[i] * sigma_tt;
     }
@@ -418,8 +587,10 @@ std::size_t compute_internal_forces(Model& m, double dt) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
   const bool hoop = m.geometry == Geometry::Axisymmetric;
   const bool strains = local || hoop || m.any_j2;
-  if (strains) compute_disk_strains(m);
+  // Softening needs the strains for its criteria even where the energy does not.
+  if (strains || m.any_softening) compute_disk_strains(m);
   if (m.any_j2) return_mapping(m);
+  if (hoop && m.any_softening) update_hoop_damage(m);
   compute_bond_forces(m, dt);
   if (strains) compute_strain_conjugates(m, local, hoop);
   gather_forces(m, !local, strains, hoop);
@@ -466,6 +637,8 @@ BondDissipation bond_dissipation(const Model& m) {
         m.num_disks(), [&](std::size_t i) { return m.disk_plastic_work[i] - j2_hardening_energy(m, i); }, m.scratch);
   }
   d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.fracture_energy[b]; }, m.scratch);
+  if (!m.hoop_fracture.empty())
+    d.fracture += deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_fracture[i]; }, m.scratch);
   d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work[b]; }, m.scratch);
   d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.friction_work[b]; }, m.scratch);
   return d;
@@ -474,7 +647,8 @@ BondDissipation bond_dissipation(const Model& m) {
 std::size_t settle_broken_bonds(Model& m, double dt) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
   const bool hoop = m.geometry == Geometry::Axisymmetric;
-  const bool strains = local || hoop || m.any_j2;
+  const bool energy_strains = local || hoop || m.any_j2;
+  const bool strains = energy_strains || m.any_softening;
   // The bonds found past their strength, in ascending order (a fixed order: deterministic).
   std::size_t first = m.num_bonds();
   std::size_t broken = 0;
@@ -510,7 +684,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       double e = m.bond_intact(b) ? intact_bond_energy(m, b) : contact_bond_energy(m, b);
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t c = touched[k];
-        if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * m.f_s[c] * m.f_s[c] / m.k_s[c];
+        if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * shear_factor(m, c) * m.k_s[c] * m.u_s[c] * m.u_s[c];
       }
       for (std::size_t i : disks) {
         if (hoop) e += hoop_energy(m, i);
@@ -520,22 +694,46 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     };
     const double before = energy();
     const double own = intact_bond_energy(m, b);
-    m.state[b] = m.newly_broken[b];  // BondState = 1 + FailureMode
-    m.break_time[b] = m.time;
-    // The bond becomes a contact that starts now: no shear history, the normal force of
-    // its overlap (a bond that breaks in compression keeps pushing).
-    m.f_n[b] = m.f_s[b] = m.f_damp[b] = m.alpha_n[b] = m.alpha_s[b] = 0.0;
-    m.u_s[b] = 0.0;
-    broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
+    const bool starts_cracking = m.newly_broken[b] == kStartsCracking;
+    if (starts_cracking) {
+      // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
+      m.cracking[b] = 1;
+    } else {
+      m.state[b] = m.newly_broken[b];  // BondState = 1 + FailureMode
+      m.break_time[b] = m.time;
+      if (!m.damage.empty()) m.damage[b] = 1.0;
+      // The bond becomes a contact that starts now: no shear history, the normal force of
+      // its overlap (a bond that breaks in compression keeps pushing).
+      m.f_n[b] = m.f_s[b] = m.f_damp[b] = m.alpha_n[b] = m.alpha_s[b] = 0.0;
+      m.u_s[b] = 0.0;
+      broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
+    }
     if (strains) {
+      // The disks lose a neighbour: their fit (M^-1) changes, but not their strain. The fit
+      // maps displacement increments to strain increments from now on; the strain the disk
+      // has is carried over by an offset, eps = fit(u) - eps_off (docs/model.md, "Energy at
+      // a break"). Re-fitting the strain to the remaining neighbours instead would change the
+      // shear energy of the disks' other bonds by an amount of either sign, and a break
+      // could release negative energy.
       for (std::size_t i : disks) {
+        const double exx = m.eps_xx[i], eyy = m.eps_yy[i], exy = m.eps_xy[i];
         update_strain_matrix(m, i);
         disk_strain(m, i);
+        m.eps_off_xx[i] += m.eps_xx[i] - exx;
+        m.eps_off_yy[i] += m.eps_yy[i] - eyy;
+        m.eps_off_xy[i] += m.eps_xy[i] - exy;
+        m.eps_xx[i] = exx;
+        m.eps_yy[i] = eyy;
+        m.eps_xy[i] = exy;
       }
       for (std::size_t k = 0; k < count && local; ++k) {
         const std::size_t c = touched[k];
         m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
-        if (m.f_yield[c] == 0) m.f_s[c] = m.k_s[c] * m.u_s[c];
+        if (m.f_yield[c] == 0) m.f_s[c] = shear_factor(m, c) * m.k_s[c] * m.u_s[c];
+      }
+      if (starts_cracking && local) {
+        m.u_s[b] = local_shear(m, b);
+        m.f_s[b] = m.k_s[b] * m.u_s[b];
       }
       // J2 disks keep their plastic strain; the stress that the next plastic increment's work
       // starts from is the one after the break.
@@ -544,16 +742,15 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
           if (m.j2_sigma_y[i] > 0) store_j2_stress(m, i);
     }
     potential += before - energy();
-    // Until the end of this pass a new break's fracture_energy holds its weight: the energy
-    // its springs stored.
-    m.fracture_energy[b] = own;
+    // The event's weight: the energy its springs stored (kept in order, one per event).
+    m.event_weights.push_back(own);
     weights += own;
   }
   // The forces without the broken bonds, and the kinetic part of the release: leap-frog's
   // kinetic energy at t_n, v(t-dt/2).v(t+dt/2) / 2, holds half a step of the force at t_n,
   // so changing that force by dF changes it by (dt/2) v(t-dt/2).dF.
-  if (strains) compute_strain_conjugates(m, local, hoop);
-  gather_forces(m, !local, strains, hoop);
+  if (energy_strains) compute_strain_conjugates(m, local, hoop);
+  gather_forces(m, !local, energy_strains, hoop);
   const double kinetic = 0.5 * dt * deterministic_sum(
       m.num_disks(),
       [&](std::size_t i) {
@@ -565,13 +762,16 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   // energy each stored (equally if none stored any): simultaneous breaks change the same
   // disks' strains, so only the pass's total is a property of the breaks.
   const double released = potential + kinetic;
+  std::size_t event = 0, breaks = 0;
   for (std::size_t b = first; b < m.num_bonds(); ++b) {
     if (!m.newly_broken[b]) continue;
+    breaks += m.newly_broken[b] != kStartsCracking;
     m.newly_broken[b] = 0;
-    m.fracture_energy[b] = weights > 0 ? released * (m.fracture_energy[b] / weights)
-                                       : released / static_cast<double>(broken);
+    const double w = m.event_weights[event++];
+    m.fracture_energy[b] += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);
   }
-  return broken;
+  m.event_weights.clear();  // keeps its capacity: no allocation once grown
+  return breaks;
 }
 
 Stress disk_stress(const Model& m, std::size_t i) {
@@ -599,11 +799,11 @@ Stress disk_stress(const Model& m, std::size_t i) {
   st.xy = sxy * scale + m.ext_mxy[i] * ext;
   st.zz = m.nu_zz[i] * (st.xx + st.yy);
   if (m.geometry == Geometry::Axisymmetric) {
-    const double eps_tt = m.ux[i] / m.weight[i];
-    st.zz = (m.hoop_lambda[i] + 2 * m.hoop_mu[i]) * eps_tt + m.hoop_lambda[i] * (m.eps_xx[i] + m.eps_yy[i]);
+    const HoopStress h = hoop_stress(m, i);
+    st.zz = h.tt;
     // The hoop term's share of the in-plane stresses: d/d(eps_rr) of lambda eps_tt eps_rr.
-    st.xx += m.hoop_lambda[i] * eps_tt;
-    st.yy += m.hoop_lambda[i] * eps_tt;
+    st.xx += h.in_plane;
+    st.yy += h.in_plane;
   }
   if (m.any_j2 && m.j2_sigma_y[i] > 0) {
     // The plastic correction's share: -2 mu eps_p (tr(eps_p) = 0).

@@ -107,6 +107,18 @@ std::optional<MaterialIssue> Material::check() const {
     if (!(friction_angle >= 0.0 && friction_angle < 90.0))
       return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
   }
+  if (!(fracture_energy >= 0.0) || !std::isfinite(fracture_energy))
+    return issue("fracture_energy", "must be >= 0 [J/m^2]", fracture_energy);
+  if (fracture_energy > 0) {
+    if (!breakable)
+      return issue("fracture_energy", "needs the strengths (tensile_strength, compressive_strength, cohesion, "
+                   "friction_angle)", fracture_energy);
+    if (!(tensile_strength > 0.0))
+      return issue("tensile_strength", "must be > 0 [Pa] with a fracture_energy", tensile_strength);
+    if (!isotropic) return issue("fracture_energy", "softening needs an isotropic material (E, nu)", fracture_energy);
+    if (plastic()) return issue("fracture_energy", "softening and plasticity in one material are not supported", fracture_energy);
+  }
+  if (!(radial_cracks >= 1.0 && radial_cracks <= 1e6)) return issue("radial_cracks", "must lie in [1, 1e6]", radial_cracks);
   if (isotropic) {
     if (!(E > 0.0) || !std::isfinite(E)) return issue("E", "must be > 0 [Pa]", E);
     if (!(nu > -1.0 && nu < 0.5)) return issue("nu", "must lie in (-1, 0.5)", nu);

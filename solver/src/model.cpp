@@ -100,6 +100,27 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     }
     m.failure_laws.push_back(law);
     m.failure_tan_phi.push_back(law.tan_phi());
+    // Softening: the continuum stress of the criteria from the disks' strains, with the
+    // in-plane Lame constants of the geometry (plane stress condenses sigma_zz = 0).
+    SofteningParams sp;
+    const Material& mat = *bm.material;
+    if (mat.breakable && mat.fracture_energy > 0) {
+      sp.G_F = mat.fracture_energy;
+      sp.mu = mat.lame_mu();
+      sp.lambda3 = mat.lame_lambda();
+      sp.lambda2 = geometry == Geometry::PlaneStress ? 2 * sp.lambda3 * sp.mu / (sp.lambda3 + 2 * sp.mu) : sp.lambda3;
+      sp.radial_cracks = mat.radial_cracks;
+      const double phi = mat.friction_angle * 0.017453292519943295;
+      sp.mc = {mat.cohesion, std::sin(phi), std::cos(phi), mat.compressive_strength};
+      m.any_softening = true;
+    }
+    m.softening.push_back(sp);
+  }
+  if (m.any_softening) {
+    for (auto* v : {&m.damage, &m.kappa, &m.delta0, &m.delta_f}) v->assign(nb, 0.0);
+    m.cracking.assign(nb, 0);
+    if (axisym)
+      for (auto* v : {&m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_fracture, &m.hoop_e_last}) v->assign(n, 0.0);
   }
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   m.break_time.assign(nb, -1.0);
@@ -177,7 +198,8 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.adj_ay[pj] = -m.ay[b];
   }
   if (m.any_breakable) {
-    for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact}) v->assign(n, 0.0);
+    for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy})
+      v->assign(n, 0.0);
   }
   // Disks with a local strain of their own: eliminate those whose fit over the remaining
   // ones is singular until none is left (a chain of lone disks goes in a few rounds).
@@ -201,10 +223,16 @@ void reset_bond_history(Model& m) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   m.len_prev = m.rest_length;
-  const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; });
+  const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
+                     std::any_of(m.cracking.begin(), m.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
+  for (auto* v : {&m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0, &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef,
+                  &m.hoop_fracture, &m.hoop_e_last}) {
+    std::fill(v->begin(), v->end(), 0.0);
+  }
+  std::fill(m.cracking.begin(), m.cracking.end(), 0);
   for (auto* v : {&m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx, &m.beta_yy, &m.beta_xy,
                   &m.beta_33,  &m.eps_p_eq, &m.sig_xx,
                   &m.sig_yy, &m.sig_xy, &m.sig_33, &m.disk_plastic_work}) {
@@ -217,7 +245,7 @@ void update_strain_matrix(Model& m, std::size_t i) {
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-    if (!m.bond_intact(b) || !m.strain_ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
+    if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
     sxx += m.adj_ax[k] * m.adj_ax[k];
     sxy += m.adj_ax[k] * m.adj_ay[k];
     syy += m.adj_ay[k] * m.adj_ay[k];

@@ -17,6 +17,7 @@
 #include "hexdem/laws/contact.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/solver/boundary_checks.hpp"
+#include "hexdem/solver/random_field.hpp"
 
 namespace hexdem::solver {
 namespace {
@@ -46,6 +47,18 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
   setup_materials();
   model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;
+  if (case_.random && model_.any_breakable) {
+    // [random]: the strength field at the bond midpoints and, for hoop cracking, the disks.
+    const RandomField& r = *case_.random;
+    std::vector<double> mx(model_.num_bonds()), my(model_.num_bonds());
+    for (std::size_t b = 0; b < model_.num_bonds(); ++b) {
+      mx[b] = model_.x0[model_.bi[b]] + 0.5 * model_.ax[b];
+      my[b] = model_.y0[model_.bi[b]] + 0.5 * model_.ay[b];
+    }
+    model_.strength_scale = lognormal_field(mx, my, r.seed, r.correlation_length, r.strength_cov);
+    if (!model_.hoop_damage.empty())
+      model_.disk_strength_scale = lognormal_field(model_.x0, model_.y0, r.seed, r.correlation_length, r.strength_cov);
+  }
   setup_boundaries();
   setup_loads();
   setup_initial_velocities();
@@ -382,7 +395,9 @@ void Solver::setup_materials() {
     // (measured: the warhead case with nu = 0.3 concrete books -25 % of the input as fracture
     // energy and breaks 90 % of its bonds, against 0.6 % and 12 % with nu = 0.2).
     // (The tolerance lets nu = 1/4 exactly, k_s = 0 up to round-off, through.)
-    if (mat->breakable && std::min(bm.springs.ks1, bm.springs.ks2) < -1e-12 * std::max(bm.springs.kn1, bm.springs.kn2)) {
+    // Softening materials (fracture_energy) grow damage only while a bond stores positive
+    // energy, so they may have negative shear springs (docs/model.md).
+    if (mat->breakable && !(mat->fracture_energy > 0) && std::min(bm.springs.ks1, bm.springs.ks2) < -1e-12 * std::max(bm.springs.kn1, bm.springs.kn2)) {
       const std::string message =
           case_.source + ": material '" + mat->name + "' (id " + std::to_string(mat->id) +
           "): breakable bonds need shear springs that are not negative, i.e. nu <= 1/4 in plane strain and "

@@ -407,7 +407,7 @@ TEST(Overrides, BadOverridesGiveOneLineAndNoOutput) {
       {"material.1.E=abc", "--set material.1.E=abc: material[0].E: expected a number (got \"abc\")"},
       {"material.7.E=3", "--set material.7.E=3: no [[material]] table '7' (id 1, name 'concrete')"},
       {"material.1.youngs=3", "--set material.1.youngs=3: material[0]: unknown key 'youngs'"},
-      {"random.seed=3", "--set random.seed=3: unknown key 'random'"},
+      {"noise.seed=3", "--set noise.seed=3: unknown key 'noise'"},
       {"time.end", "--set time.end: expected KEY=VALUE"},
       {"time..end=1", "bad key 'time..end'"},
       {"time.end=", "missing value"},
@@ -581,8 +581,8 @@ TEST(Sweep, BadStudiesAreRefusedBeforeAnythingRuns) {
   write(d, "plate.toml", plate_case("plane-stress"));
   const std::string head = "[study]\ncase = \"plate.toml\"\n";
   const std::vector<std::pair<std::string, std::string>> cases{
-      {head + "[[parameter]]\nkey = \"random.seed\"\nvalues = [1, 2]\n",
-       "plate.toml: --set random.seed=1: unknown key 'random'"},
+      {head + "[[parameter]]\nkey = \"noise.seed\"\nvalues = [1, 2]\n",
+       "plate.toml: --set noise.seed=1: unknown key 'noise'"},
       {head + "[[parameter]]\nkey = \"material.1.E\"\nvalues = [30e9, -1]\n", "member 2: "},
       {head + "outputs = [\"speed\"]\n[[parameter]]\nkey = \"time.end\"\nvalues = [1e-6]\n",
        "study.outputs: unknown output 'speed'"},

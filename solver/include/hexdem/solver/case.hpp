@@ -4,6 +4,7 @@
 /// m, s, kg, Pa, N. The Case owns its data; the Outline is meshed by the solver at set-up.
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -112,6 +113,16 @@ struct ContactControl {
   double resolution = 0.25;
 };
 
+/// Spatially correlated random strength (docs/model.md, "Random strength"): every strength of
+/// a breakable bond and a ring's hoop strength are multiplied by a lognormal field of mean 1,
+/// coefficient of variation strength_cov and Gaussian correlation exp(-d^2 / (2 l^2)), drawn
+/// from `seed`; the field is a property of the material's space, not of the lattice.
+struct RandomField {
+  std::int64_t seed = 0;
+  double correlation_length = 0;  ///< l [m]
+  double strength_cov = 0.1;      ///< [-]
+};
+
 struct Case {
   std::string name;               ///< output base name (default: the case file's stem)
   std::string source;             ///< the case file
@@ -131,6 +142,7 @@ struct Case {
   TimeControl time;
   OutputControl output;
   ContactControl contact;
+  std::optional<RandomField> random;  ///< [random]; none: uniform strengths
   /// The case as run: the file's TOML with every --set override applied (written as
   /// `<case>.case.toml` beside the output; its hash identifies checkpoints). Empty for a
   /// Case built in code.

@@ -69,6 +69,13 @@ struct Material {
   double cohesion = 0;              ///< c [Pa]
   double friction_angle = 0;        ///< phi [deg], in [0, 90)
   bool rate_dependent = true;       ///< Eq. 20 strain-rate factors
+  /// Fracture energy G_F [J/m^2]: > 0 turns on softening failure with an orientation-free
+  /// criterion on the continuum stress (docs/model.md, "Fracture energy and softening");
+  /// 0: the brittle bond criterion of Eq. 19.
+  double fracture_energy = 0;
+  /// Axisymmetric softening: the number of radial cracks that hoop tension opens, which sets
+  /// the hoop crack band 2 pi b / n of a ring at radius b [-].
+  double radial_cracks = 6;
 
   double friction = 0.5;  ///< Coulomb friction coefficient of contacts [-]
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hexdem/laws/failure.hpp"
+#include "hexdem/laws/softening.hpp"
 #include "hexdem/meshing/lattice.hpp"
 #include "hexdem/solver/material.hpp"
 
@@ -32,6 +33,18 @@ enum ConstraintBits : std::uint8_t {
   kFixX = 1,         ///< velocity x (r) held (zero or prescribed)
   kFixY = 2,         ///< velocity y (z) held
   kFixRotation = 4,  ///< spin held at zero
+};
+
+/// Softening failure of one body's material (docs/model.md, "Fracture energy and softening"):
+/// on when G_F > 0; otherwise the body's bonds break brittle (the MohrCoulombFailure law).
+struct SofteningParams {
+  double G_F = 0;           ///< fracture energy [J/m^2]; 0: brittle
+  double lambda2 = 0;       ///< in-plane Lame constant of the continuum stress [Pa] (plane
+                            ///< stress: 2 lambda mu / (lambda + 2 mu))
+  double mu = 0;            ///< shear modulus [Pa]
+  double lambda3 = 0;       ///< 3D Lame constant (out-of-plane and hoop terms) [Pa]
+  double radial_cracks = 0; ///< axisymmetric: radial cracks that relieve hoop tension [-]
+  laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
 struct Model {
@@ -76,6 +89,9 @@ struct Model {
   /// flight at a lattice angle of 30 degrees blew up at step 190).
   std::vector<std::uint8_t> strain_ok;
   std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
+  /// Breakable models: the strain carried across changes of a disk's fit, eps = fit(u) -
+  /// eps_off (settle_broken_bonds) [-]; empty otherwise.
+  std::vector<double> eps_off_xx, eps_off_yy, eps_off_xy;
   std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
   /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
   /// the disks of J2 materials; else 0).
@@ -118,6 +134,23 @@ struct Model {
   /// 1 + FailureMode of a bond that the force pass found past its strength (it still acted
   /// intact in that pass), 0 otherwise; settle_broken_bonds breaks it and clears the flag.
   std::vector<std::uint8_t> newly_broken;
+  // Softening failure (docs/model.md, "Fracture energy and softening"); per-bond and per-disk
+  // arrays allocated only when some material has a fracture energy.
+  bool any_softening = false;
+  std::vector<SofteningParams> softening;  ///< per failure law (body)
+  std::vector<double> damage;              ///< D of the bond's springs [-], 0 intact, 1 broken
+  std::vector<double> kappa;               ///< largest elongation since cracking started [m]
+  std::vector<double> delta0, delta_f;     ///< elongation at the start of cracking and at failure [m]
+  /// 1 once the bond has started to crack: it keeps its (softening) springs but leaves its
+  /// disks' strain fits, so that its opening is not read as strain by its neighbours.
+  std::vector<std::uint8_t> cracking;
+  // Hoop cracking of axisymmetric rings: damage of the hoop stress (radial cracks).
+  std::vector<double> hoop_damage, hoop_kappa, hoop_e0, hoop_ef;  ///< [-]
+  std::vector<double> hoop_e_last;         ///< the hoop driver s / M at the last force pass [-]
+  std::vector<double> hoop_fracture;       ///< energy dissipated by hoop cracking [J]
+  /// Spatially random strength ([random]): factor on every strength of a bond / a disk's
+  /// hoop strength; empty: 1.
+  std::vector<double> strength_scale, disk_strength_scale;
   std::vector<double> f_damp;  ///< broken bonds: the dashpot's part of f_n at the last update [N]
   /// Forces of the pass before settle_broken_bonds broke bonds [N, N m]: the break's
   /// kinetic-energy term compares them with the forces after it (allocated if any_breakable).
@@ -148,10 +181,14 @@ struct Model {
   std::vector<double> adj_ax, adj_ay;    ///< reference vector to the other disk [m]
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
+  std::vector<double> event_weights;    ///< settle_broken_bonds: each event's stored energy
 
   [[nodiscard]] std::size_t num_disks() const { return x0.size(); }
   [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
   [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
+  /// Intact and not cracking: the bond enters its disks' strain fits.
+  [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracking[b]); }
+  [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
 };
 
 /// Per-body material choice and spring constants, ready for Model construction.

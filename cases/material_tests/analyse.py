@@ -1,0 +1,157 @@
+#!/usr/bin/env python3
+"""Analyses a virtual material test of cases/material_tests/ (README.md there).
+
+    analyse.py KIND OUTDIR/CASE.pvd [--json FILE] [--check]
+
+KIND is tension, compression, brazilian or notched_beam. Reads the run's reactions, energy and
+probe CSVs and its last frame, and prints one line of results:
+  tension       peak stress = max reaction of the grip / (gauge width 30 mm x t)
+  compression   peak stress = max |reaction| of the platen / (50 mm x t)
+  brazilian     split strength 2 P / (pi D t); the crack's mean distance from the loaded
+                diameter (bonds broken or with D > 0.5 in the middle half of the disc)
+  notched_beam  peak load, deflection at the peak, work of fracture W / (t x ligament)
+                (RILEM TC 50), broken facet length (2r / sqrt 3 per broken bond)
+and for all: max |energy error| and the largest kinetic / elastic energy ratio before the peak.
+With --check, exits 1 when a check of the kind fails (limits below); a run that did not
+complete (see run_status.py) is refused with exit 2.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+from run_status import require_completed  # noqa: E402
+
+SCRIPT = "analyse.py"
+GAUGE_WIDTH = 0.030    # m, tension dog-bone
+PRISM_WIDTH = 0.050    # m, compression prism
+LIGAMENT = 0.1009      # m, notched beam: depth 200.92 mm - notch 100 mm
+
+
+def fail(message, code=2):
+    sys.stderr.write("%s: %s\n" % (SCRIPT, message))
+    sys.exit(code)
+
+
+def read_csv(path):
+    if not os.path.isfile(path):
+        fail("%s: no such file" % path)
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    if len(rows) < 2:
+        fail("%s: no data rows" % path)
+    data = np.array([[float(v) for v in r] for r in rows[1:]])
+    return {name: data[:, k] for k, name in enumerate(rows[0])}
+
+
+def last_frame(pvd):
+    root = ET.parse(pvd).getroot()
+    base = os.path.dirname(os.path.abspath(pvd))
+    frames = sorted((float(d.get("timestep")), os.path.join(base, d.get("file"))) for d in root.iter("DataSet"))
+    if not frames:
+        fail("%s: the series has no frames" % pvd)
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(frames[-1][1])
+    reader.Update()
+    g = reader.GetOutput()
+    pts = vtk_to_numpy(g.GetPoints().GetData())
+    cd = g.GetCellData()
+    conn = vtk_to_numpy(g.GetCells().GetConnectivityArray())
+    state = vtk_to_numpy(cd.GetArray("state"))
+    damage = vtk_to_numpy(cd.GetArray("bond_damage")) if cd.GetArray("bond_damage") else np.zeros(len(state))
+    radius = vtk_to_numpy(g.GetPointData().GetArray("radius"))
+    ci, cj = conn[0::2], conn[1::2]
+    bond = state < 5  # state 5: a contact between bodies, not a bond
+    cracked = bond & ((state >= 2) | (damage > 0.5))
+    return {"mid": 0.5 * (pts[ci] + pts[cj]), "cracked": cracked, "r": float(np.median(radius)),
+            "ref": pts}
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("kind", choices=["tension", "compression", "brazilian", "notched_beam"])
+    ap.add_argument("pvd")
+    ap.add_argument("--json")
+    ap.add_argument("--check", action="store_true")
+    a = ap.parse_args(argv)
+    require_completed(a.pvd, SCRIPT)
+    stem = os.path.splitext(a.pvd)[0]
+    case_toml = stem + ".case.toml"
+    import tomllib
+    with open(case_toml, "rb") as f:
+        case = tomllib.load(f)
+    t = case["case"]["thickness"]
+    reactions = read_csv(stem + ".reactions.csv")
+    energy = read_csv(stem + ".energy.csv")
+    frame = last_frame(a.pvd)
+    out = {"kind": a.kind, "angle": case["mesh"].get("angle", 0.0), "radius": case["mesh"]["radius"],
+           "seed": case.get("random", {}).get("seed"),
+           "max_energy_error": float(np.max(np.abs(energy["relative_error"])))}
+    time = reactions["time"]
+    checks = []
+    if a.kind in ("tension", "compression"):
+        col = "grip.fy" if a.kind == "tension" else "platen.fy"
+        force = reactions[col] if a.kind == "tension" else -reactions[col]
+        k = int(np.argmax(force))
+        width = GAUGE_WIDTH if a.kind == "tension" else PRISM_WIDTH
+        out["peak_stress_MPa"] = float(force[k] / (width * t) / 1e6)
+        out["peak_time"] = float(time[k])
+        e_peak = np.interp(time[k], energy["time"], energy["elastic"])
+        before = energy["time"] <= time[k]
+        out["kinetic_over_elastic_at_peak"] = float(np.interp(time[k], energy["time"], energy["kinetic"]) / e_peak)
+        out["fracture_energy_J"] = float(energy["fracture"][-1])
+        checks.append(("post-peak force below 60 % of the peak", force[-1] < 0.6 * force[k]))
+        checks.append(("kinetic energy below 1 % of the elastic at the peak", out["kinetic_over_elastic_at_peak"] < 0.01))
+    elif a.kind == "brazilian":
+        force = -reactions["top.fy"]
+        k = int(np.argmax(force))
+        ys = frame["ref"][:, 1]
+        D = ys.max() - ys.min() + 2 * frame["r"]
+        out["split_strength_MPa"] = float(2 * force[k] / (math.pi * D * t) / 1e6)
+        mid = frame["mid"]
+        middle = frame["cracked"] & (np.abs(mid[:, 1]) < 0.25 * D)
+        out["crack_bonds_middle"] = int(middle.sum())
+        out["crack_offset_mm"] = float(np.mean(np.abs(mid[middle, 0])) * 1e3) if middle.any() else float("nan")
+        out["crack_offset_in_r"] = out["crack_offset_mm"] / (frame["r"] * 1e3)
+        checks.append(("the crack runs along the loaded diameter, within 2r", middle.any() and out["crack_offset_in_r"] <= 2.0))
+    else:
+        force = -reactions["load.fy"]
+        probes = read_csv(stem + ".probes.csv")
+        defl = -np.interp(time, probes["time"], probes["load_point.displacement_y"])
+        k = int(np.argmax(force))
+        out["peak_load_N"] = float(force[k])
+        out["deflection_at_peak_mm"] = float(defl[k] * 1e3)
+        work = float(np.trapz(force, defl))
+        out["work_J"] = work
+        out["work_of_fracture_J_m2"] = work / (t * LIGAMENT)
+        out["final_load_over_peak"] = float(force[-1] / force[k])
+        r = frame["r"]
+        out["broken_facet_length_mm"] = float(frame["cracked"].sum() * 2 * r / math.sqrt(3) * 1e3)
+        out["curve"] = {"deflection_mm": [float(v * 1e3) for v in defl[::max(1, len(defl) // 200)]],
+                        "load_N": [float(v) for v in force[::max(1, len(force) // 200)]]}
+        checks.append(("the load has fallen below 10 % of the peak", out["final_load_over_peak"] < 0.1))
+    checks.append(("max |energy error| <= 1 %", out["max_energy_error"] <= 0.01))
+    out["checks"] = {name: bool(ok) for name, ok in checks}
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(out, f, indent=1)
+    summary = {k: v for k, v in out.items() if k not in ("curve", "checks")}
+    print(" ".join("%s=%s" % (k, ("%.4g" % v) if isinstance(v, float) else v) for k, v in summary.items()))
+    failed = [name for name, ok in checks if not ok]
+    for name in failed:
+        sys.stderr.write("%s: check failed: %s\n" % (SCRIPT, name))
+    if a.check and failed:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,77 @@
+#pragma once
+/// \file softening.hpp
+/// Tension softening with a fracture energy, and the continuum criteria that start it
+/// (docs/model.md, "Fracture energy and softening"). SI units: Pa, m, J/m^2.
+///
+/// A bond of a material with `fracture_energy` G_F does not break when its own force reaches
+/// a strength. It starts to crack when the continuum stress at its midpoint (from the local
+/// strains of its two disks) reaches the tensile strength in its largest principal direction
+/// n1 (Rankine), whatever the bond's own direction; then its springs soften with a scalar
+/// damage D (secant unloading, closure restores the normal stiffness) so that it fails at the
+/// crack opening w_c = 2 G_F / f_t projected on the bond, delta_f = w_c |n_b . n1|. Summed over
+/// the bonds that a straight crack cuts, the work of their normal forces is G_F per unit
+/// crack area at any lattice angle and spacing: the bonds' normal forces across the crack,
+/// projected on n1, add up to f_t times the crack area at the start (equilibrium), and each
+/// does F0 delta_f / 2 of work.
+/// Refs: Hillerborg, Modeer, Petersson (1976) for the fictitious crack; Bolander and Saito
+/// (1998) and Grassl and Jirasek (2010) for lattice models with crack-opening softening.
+
+#include <cmath>
+
+namespace hexdem::laws {
+
+/// Linear softening in the bond elongation delta (or any strain-like driver): force
+/// (1 - D) k delta, peak at delta0, zero at delta_f. The area under the curve is
+/// k delta0 delta_f / 2.
+struct LinearSoftening {
+  /// Damage at history kappa (the largest driver reached) [-], in [0, 1]:
+  /// D = 1 - delta0 (delta_f - kappa) / ((delta_f - delta0) kappa) between delta0 and delta_f.
+  [[nodiscard]] static double damage(double kappa, double delta0, double delta_f) noexcept {
+    if (!(kappa > delta0)) return 0.0;
+    if (!(kappa < delta_f)) return 1.0;
+    return 1.0 - delta0 * (delta_f - kappa) / ((delta_f - delta0) * kappa);
+  }
+
+  /// Critical crack opening of a linear traction-separation law [m]: w_c = 2 G_F / f_t.
+  [[nodiscard]] static double crack_opening(double G_F, double f_t) noexcept { return 2.0 * G_F / f_t; }
+};
+
+/// In-plane principal stresses and the direction of the largest one.
+struct Principal2D {
+  double s1 = 0, s2 = 0;  ///< s1 >= s2 [Pa]
+  double n1x = 1, n1y = 0;  ///< unit vector of s1
+};
+
+/// Principal values of the symmetric tensor (sxx, syy, sxy).
+[[nodiscard]] inline Principal2D principal_2d(double sxx, double syy, double sxy) noexcept {
+  const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+  const double R = std::hypot(d, sxy);
+  Principal2D p;
+  p.s1 = c + R;
+  p.s2 = c - R;
+  const double angle = 0.5 * std::atan2(sxy, d);
+  p.n1x = std::cos(angle);
+  p.n1y = std::sin(angle);
+  return p;
+}
+
+/// Mohr-Coulomb on the continuum stress with principal values s_max >= s_min (tension
+/// positive, the out-of-plane one included): shear failure when
+///   (s_max - s_min) / 2 >= c cos(phi) - (s_max + s_min) / 2 sin(phi),
+/// crushing when s_min <= -f_c. Uniaxial compression then fails at 2 c cos(phi) / (1 - sin(phi))
+/// or f_c, whichever is smaller (the paper's Eq. 19 restated for stresses).
+struct StressMohrCoulomb {
+  double c = 0;        ///< cohesion [Pa]
+  double sin_phi = 0;  ///< [-]
+  double cos_phi = 1;  ///< [-]
+  double f_c = 0;      ///< crushing strength [Pa], > 0
+
+  /// 0: none, 2: shear, 3: compression (the FailureMode values).
+  [[nodiscard]] int mode(double s_max, double s_min, double scale) const noexcept {
+    if (s_min <= -f_c * scale) return 3;
+    if (0.5 * (s_max - s_min) >= c * scale * cos_phi - 0.5 * (s_max + s_min) * sin_phi) return 2;
+    return 0;
+  }
+};
+
+}  // namespace hexdem::laws
