@@ -415,7 +415,7 @@ constexpr std::array<Key<TimeControl>, 7> kTimeKeys{{
      }},
 }};
 
-constexpr std::array<Key<OutputControl>, 6> kOutputKeys{{
+constexpr std::array<Key<OutputControl>, 7> kOutputKeys{{
     {"interval", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.interval = in.non_negative(v, p);
@@ -436,6 +436,8 @@ constexpr std::array<Key<OutputControl>, 6> kOutputKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.checkpoint_interval = in.non_negative(v, p);
      }},
+    {"reactions", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) { o.reactions = in.names(v, p); }},
 }};
 
 constexpr std::array<Key<Wall>, 3> kWallKeys{{
@@ -972,6 +974,17 @@ void Reader::read_output(const toml::table& root, Case& c) const {
         if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(k), names[k]) !=
             names.begin() + static_cast<std::ptrdiff_t>(k))
           fail(at, path, "duplicate body '" + names[k] + "'");
+      }
+    }
+    if (const toml::node* sets = t.get("reactions")) {
+      const std::vector<std::string>& names = c.output.reactions;
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        const toml::node& at = *sets->as_array()->get(k);
+        const std::string path = item("output.reactions", k);
+        check_set(c, names[k], at, path);
+        if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(k), names[k]) !=
+            names.begin() + static_cast<std::ptrdiff_t>(k))
+          fail(at, path, "duplicate boundary set '" + names[k] + "'");
       }
     }
   }

@@ -150,6 +150,7 @@ struct CheckpointAccess {
     v.rebuilt("loads", s.loads_);
     v.rebuilt("velocity_sets", s.velocity_sets_);
     v.rebuilt("loaded_disks", s.loaded_disks_);
+    v.rebuilt("reaction_sets", s.reaction_sets_);
     v.rebuilt("block_sums", s.block_sums_);  // work space of update_velocities
     v.state("dt_info", s.dt_info_);
     v.state("energy", s.energy_);
@@ -293,6 +294,8 @@ void save_run(Writer& w, const RunState& run) {
   w.state("run.energy_hash", run.energy_hash);
   w.state("run.probes_hash", run.probes_hash);
   w.state("run.bodies_hash", run.bodies_hash);
+  w.state("run.reactions_bytes", run.reactions_bytes);
+  w.state("run.reactions_hash", run.reactions_hash);
 }
 
 // ---- reading ------------------------------------------------------------------------
@@ -395,6 +398,8 @@ void load_run(Reader& r, RunState& run) {
   r.state("run.energy_hash", run.energy_hash);
   r.state("run.probes_hash", run.probes_hash);
   r.state("run.bodies_hash", run.bodies_hash);
+  r.state("run.reactions_bytes", run.reactions_bytes);
+  r.state("run.reactions_hash", run.reactions_hash);
 }
 
 // ---- coverage -----------------------------------------------------------------------

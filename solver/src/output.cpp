@@ -350,6 +350,8 @@ void RunOutput::save_state(RunState& state) {
   state.energy_hash = prefix_hash(energy_path_, state.energy_bytes);
   state.probes_hash = prefix_hash(probes_path_, state.probes_bytes);
   state.bodies_hash = prefix_hash(bodies_path_, state.bodies_bytes);
+  state.reactions_bytes = bytes(reactions_, reactions_path_);
+  state.reactions_hash = prefix_hash(reactions_path_, state.reactions_bytes);
 }
 
 void RunOutput::open(const Solver& solver, const RunState* resume) {
@@ -377,6 +379,7 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
   probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
   bodies_path_ = (fs::path(dir_) / (name_ + ".bodies.csv")).string();
+  reactions_path_ = (fs::path(dir_) / (name_ + ".reactions.csv")).string();
   status_path_ = (fs::path(dir_) / (name_ + ".status")).string();
   write_status("running");
   // The CSVs of a restart continue from the checkpoint; those of a new run start afresh.
@@ -391,6 +394,8 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     if (!c.probes.empty()) truncate_for_restart(probes_path_, resume->probes_bytes, resume->probes_hash);
     if (!c.output.body_history.empty())
       truncate_for_restart(bodies_path_, resume->bodies_bytes, resume->bodies_hash);
+    if (!c.output.reactions.empty())
+      truncate_for_restart(reactions_path_, resume->reactions_bytes, resume->reactions_hash);
     pvd_ = resume->frames;
     last_frame_ = resume->last_frame;
     io::write_pvd(pvd_path_, pvd_);
@@ -464,15 +469,25 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     header << "\n";
     if (resume == nullptr) bodies_ << header.str();
   }
+
+  if (resume == nullptr) fs::remove(reactions_path_, ec);
+  if (!c.output.reactions.empty()) {
+    // The sets were resolved by the Solver (Solver::setup_reactions), in the order of the list.
+    reactions_.open(reactions_path_, resume != nullptr);
+    std::string header = "time";
+    for (const std::string& set : c.output.reactions) header += "," + set + ".fx," + set + ".fy";
+    header += "\n";
+    if (resume == nullptr) reactions_ << header;
+  }
 }
 
 void RunOutput::flush_csvs() {
-  for (CsvFile* f : {&energy_, &probes_, &bodies_})
+  for (CsvFile* f : {&energy_, &probes_, &bodies_, &reactions_})
     if (f->is_open()) f->flush();
 }
 
 void RunOutput::finish() {
-  for (CsvFile* f : {&energy_, &probes_, &bodies_}) f->close();
+  for (CsvFile* f : {&energy_, &probes_, &bodies_, &reactions_}) f->close();
 }
 
 void RunOutput::write_frame(const Solver& solver) {
@@ -499,6 +514,19 @@ void RunOutput::write_energy(const Solver& solver) {
   }
   energy_ << "\n";
   flush_csvs();
+}
+
+void RunOutput::write_reactions(const Solver& solver) {
+  if (!reactions_.is_open()) return;
+  csv_number(reactions_, solver.time());
+  for (std::size_t k = 0; k < solver.num_reaction_sets(); ++k) {
+    const std::array<double, 2> r = solver.reaction(k);
+    reactions_ << ",";
+    csv_number(reactions_, r[0]);
+    reactions_ << ",";
+    csv_number(reactions_, r[1]);
+  }
+  reactions_ << "\n";
 }
 
 void RunOutput::write_probes(const Solver& solver) {
@@ -662,6 +690,7 @@ int run_case(const Case& c, const RunOptions& options) {
       out.write_bodies(s);
     }
     if (energy_row) {
+      out.write_reactions(s);
       out.write_energy(s);
       max_error = std::max(max_error, std::abs(s.energy().relative_error()));
     }
@@ -744,6 +773,7 @@ int run_case(const Case& c, const RunOptions& options) {
     if (checkpoint_dt > 0 && fs::exists(checkpoint_path)) std::printf("  checkpoint: %s\n", checkpoint_path.c_str());
     if (!c.probes.empty()) std::printf("  probes: %s\n", out.probes_path().c_str());
     if (!c.output.body_history.empty()) std::printf("  bodies: %s\n", out.bodies_path().c_str());
+    if (!c.output.reactions.empty()) std::printf("  reactions: %s\n", out.reactions_path().c_str());
   }
   return kExitOk;
 }

@@ -31,6 +31,27 @@ std::string fmt(double v, int precision = 4) {
   return s.str();
 }
 
+/// Whether a condition on a boundary set acts on the disk of set entry e: only disks whose
+/// centre lies closer than their radius to the edge are held (on a symmetry plane that runs
+/// across the lattice rows, the disks one radius off it must stay free).
+bool held_by_set(const meshing::Lattice& lattice, std::int64_t e, double radius) {
+  return lattice.set_distance[static_cast<std::size_t>(e)] < (1 - 1e-6) * radius;
+}
+
+/// The velocity components (kFixX, kFixY) a boundary condition holds on its disks.
+std::uint8_t held_components(const BoundaryCondition& bc) {
+  switch (bc.kind) {
+    case BoundaryCondition::Kind::Fixed:
+      return kFixX | kFixY;
+    case BoundaryCondition::Kind::Roller:
+    case BoundaryCondition::Kind::Symmetry:
+      return bc.component == 0 ? kFixX : kFixY;
+    case BoundaryCondition::Kind::Velocity:
+      return static_cast<std::uint8_t>((bc.velocity[0] ? kFixX : 0) | (bc.velocity[1] ? kFixY : 0));
+  }
+  return 0;
+}
+
 }  // namespace
 
 meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
@@ -61,6 +82,7 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
   }
   setup_boundaries();
   setup_loads();
+  setup_reactions();
   setup_initial_velocities();
   setup_contacts();
   choose_time_step();
@@ -441,26 +463,21 @@ void Solver::setup_boundaries() {
         nearest = lattice_.set_distance[e];
         r_nearest = model_.radius[i];
       }
-      // Only disks whose centre is closer than r to the edge are held: on a symmetry plane
-      // that runs across the lattice rows, the disks one radius off it must stay free.
-      if (!(lattice_.set_distance[e] < (1 - 1e-6) * model_.radius[i])) continue;
+      if (!held_by_set(lattice_, e, model_.radius[i])) continue;
       ++held;
       std::uint8_t& bits = model_.constraint[i];
+      bits |= held_components(bc);
       switch (bc.kind) {
         case BoundaryCondition::Kind::Fixed:
-          bits |= kFixX | kFixY;
           if (bc.fix_rotation) bits |= kFixRotation;
           break;
         case BoundaryCondition::Kind::Roller:
-          bits |= bc.component == 0 ? kFixX : kFixY;
           break;
         case BoundaryCondition::Kind::Symmetry:
-          bits |= (bc.component == 0 ? kFixX : kFixY) | kFixRotation;
+          bits |= kFixRotation;
           if (lattice_.set_distance[e] < 1e-3 * model_.radius[i]) model_.mirror_plane[i] = 1;
           break;
         case BoundaryCondition::Kind::Velocity:
-          if (bc.velocity[0]) bits |= kFixX;
-          if (bc.velocity[1]) bits |= kFixY;
           vs.disks.push_back(static_cast<std::int32_t>(i));
           owner[i] = static_cast<std::int32_t>(velocity_sets_.size());
           break;
@@ -565,6 +582,91 @@ void Solver::setup_loads() {
   }
   for (std::size_t i = 0; i < loaded.size(); ++i)
     if (loaded[i]) loaded_disks_.push_back(static_cast<std::int32_t>(i));
+}
+
+void Solver::setup_reactions() {
+  for (const std::string& name : case_.output.reactions) {
+    const std::string what = case_.source + ": output.reactions: boundary set '" + name + "'";
+    // Names were checked against the outline by the reader; a set without disks has no row.
+    const int s = lattice_.find_set(name);
+    if (s < 0) throw InputError(what + " selects no disk (the set has no disks)");
+    const std::int64_t first = lattice_.set_offset[s], end = lattice_.set_offset[s + 1];
+    ReactionSet rs;
+    std::vector<std::uint8_t> held(static_cast<std::size_t>(end - first), 0);
+    std::vector<std::uint8_t> spring(held.size(), 0);
+    bool conditioned = false;
+    for (const BoundaryCondition& bc : case_.boundaries) {
+      if (bc.set != name) continue;
+      conditioned = true;  // setup_boundaries refused a condition that holds no disk
+      const std::uint8_t bits = held_components(bc);
+      for (auto e = first; e < end; ++e) {
+        const auto i = static_cast<std::size_t>(lattice_.set_disk[e]);
+        if (held_by_set(lattice_, e, model_.radius[i])) held[static_cast<std::size_t>(e - first)] |= bits;
+        // A mirror plane's springs to the disks one radius off it (setup_mirror_springs)
+        // are part of the condition: their force -k u is the plane's on the body.
+        const double k = bc.component == 0 ? model_.wall_kx[i] : model_.wall_ky[i];
+        if (bc.kind == BoundaryCondition::Kind::Symmetry && k != 0 &&
+            std::abs(lattice_.set_distance[e] - model_.radius[i]) <= 1e-6 * model_.radius[i])
+          spring[static_cast<std::size_t>(e - first)] |= static_cast<std::uint8_t>(1 << bc.component);
+      }
+    }
+    for (auto e = first; e < end; ++e) {
+      const auto k = static_cast<std::size_t>(e - first);
+      if (held[k] != 0) {
+        rs.disks.push_back(lattice_.set_disk[e]);
+        rs.held.push_back(held[k]);
+      }
+      for (std::uint8_t axis = 0; axis < 2; ++axis) {
+        if (!(spring[k] & (1 << axis))) continue;
+        rs.spring_disks.push_back(lattice_.set_disk[e]);
+        rs.spring_axis.push_back(axis);
+      }
+    }
+    if (!conditioned) {
+      // A set that only carries loads reports the force they apply.
+      for (std::size_t l = 0; l < loads_.size(); ++l)
+        if (loads_[l].load->kind == Load::Kind::Pressure && loads_[l].load->set == name)
+          rs.loads.push_back(static_cast<std::int32_t>(l));
+      if (rs.loads.empty()) {
+        throw InputError(what + " has no [[boundary]] condition and no pressure [[load]]: nothing acts on the "
+                                "body there (its reaction would be zero)");
+      }
+    }
+    reaction_sets_.push_back(std::move(rs));
+  }
+}
+
+std::array<double, 2> Solver::reaction(std::size_t k) const {
+  const Model& m = model_;
+  const ReactionSet& rs = reaction_sets_[k];
+  const double dt = dt_info_.dt;
+  double rx = 0, ry = 0;
+  // Held components: the force the constraint adds to F(t_n) to give the held disk the
+  // leap-frog acceleration (v(t+dt/2) - v(t-dt/2)) / dt it was given (update_velocities).
+  for (std::size_t j = 0; j < rs.disks.size(); ++j) {
+    const auto i = static_cast<std::size_t>(rs.disks[j]);
+    if (rs.held[j] & kFixX) rx += m.mass[i] * (m.vx[i] - m.vx_old[i]) / dt - (m.fx[i] + m.fx_ext[i]);
+    if (rs.held[j] & kFixY) ry += m.mass[i] * (m.vy[i] - m.vy_old[i]) / dt - (m.fy[i] + m.fy_ext[i]);
+  }
+  // Mirror springs, F = -k u at t_n (compute_internal_forces).
+  for (std::size_t j = 0; j < rs.spring_disks.size(); ++j) {
+    const auto i = static_cast<std::size_t>(rs.spring_disks[j]);
+    if (rs.spring_axis[j] == 0) {
+      rx -= m.wall_kx[i] * m.ux[i];
+    } else {
+      ry -= m.wall_ky[i] * m.uy[i];
+    }
+  }
+  // Loads of a set without a condition, at the time of the force pass (apply_external_forces).
+  for (std::int32_t l : rs.loads) {
+    const LoadSet& ls = loads_[static_cast<std::size_t>(l)];
+    const double amp = ls.load->function(m.time);
+    for (std::size_t e = 0; e < ls.disks.size(); ++e) {
+      rx += amp * ls.cx[e];
+      ry += amp * ls.cy[e];
+    }
+  }
+  return {rx, ry};
 }
 
 void Solver::setup_initial_velocities() {

@@ -106,6 +106,7 @@ end = 6e-6
 [output]
 interval = 0.5e-6
 checkpoint_interval = 2.5e-6
+reactions = ["top", "base", "axis"]
 )";
 }
 
@@ -168,6 +169,7 @@ end = 12e-6
 interval = 1e-6
 checkpoint_interval = 6e-6
 body_history = ["striker", "target"]
+reactions = ["base"]
 )";
 }
 
@@ -215,6 +217,8 @@ void expect_restart_identical(const std::string& text, const std::string& name, 
   fs::remove(cut / (name + ".pvd"));
   fs::remove(cut / (name + ".summary.csv"));
   std::ofstream(cut / (name + ".energy.csv"), std::ios::app) << "9,9,9,half a row";
+  if (fs::exists(cut / (name + ".reactions.csv")))
+    std::ofstream(cut / (name + ".reactions.csv"), std::ios::app) << "9,9,half a row";
 
   r = run_hexdem(d, "run " + c.string() + " --restart " + (cut / (name + ".chk")).string() + " -j 2" + extra);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -287,7 +291,7 @@ TEST(Restart, BadCheckpointsAreRefused) {
   expect_refused(good.substr(0, good.size() / 2), "checksum");
   std::string version = good;
   version[8] = 7;  // the format version follows the 8-byte magic
-  expect_refused(version, "checkpoint format version 7, this hexdem reads version 1");
+  expect_refused(version, "checkpoint format version 7, this hexdem reads version 2");
   std::string flipped = good;
   flipped[flipped.size() / 2] ^= 1;
   expect_refused(flipped, "damaged or truncated checkpoint");

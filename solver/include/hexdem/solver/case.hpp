@@ -93,6 +93,9 @@ struct OutputControl {
   std::vector<std::string> body_history;
   /// Simulated time between checkpoints `<case>.chk` [s]; 0 = none (docs/file-format.md).
   double checkpoint_interval = 0;
+  /// Boundary sets whose reaction (the force the set's condition exerts on the body, N or
+  /// N/rad) goes to `<case>.reactions.csv` at every energy row, in this order. Empty: no file.
+  std::vector<std::string> reactions;
 };
 
 /// A rigid planar wall: the half-plane behind the line through `point` with unit `normal`

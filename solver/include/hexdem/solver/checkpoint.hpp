@@ -26,8 +26,9 @@
 
 namespace hexdem::solver {
 
-/// Version of the checkpoint layout; a file of another version is refused.
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+/// Version of the checkpoint layout; a file of another version is refused. 2: the run state
+/// records how far `<case>.reactions.csv` got (run.reactions_bytes, run.reactions_hash).
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {
@@ -37,11 +38,11 @@ struct RunState {
   double max_error = 0;        ///< largest |relative energy error| so far
   std::vector<io::PvdEntry> frames;  ///< frames written so far (the .pvd's entries)
   std::string last_frame;            ///< path of the last frame written
-  /// Bytes of the energy, probe and body CSVs when the checkpoint was written: a restart
-  /// truncates them there and appends.
-  std::uint64_t energy_bytes = 0, probes_bytes = 0, bodies_bytes = 0;
+  /// Bytes of the energy, probe, body and reaction CSVs when the checkpoint was written: a
+  /// restart truncates them there and appends.
+  std::uint64_t energy_bytes = 0, probes_bytes = 0, bodies_bytes = 0, reactions_bytes = 0;
   /// FNV-1a hashes of those first bytes: a restart refuses CSVs another run has rewritten.
-  std::uint64_t energy_hash = 0, probes_hash = 0, bodies_hash = 0;
+  std::uint64_t energy_hash = 0, probes_hash = 0, bodies_hash = 0, reactions_hash = 0;
 };
 
 /// FNV-1a 64-bit hash of bytes (also the file's checksum).

@@ -1,8 +1,9 @@
 #pragma once
 /// \file output.hpp
 /// Run output (docs/file-format.md): `DIR/<case>.pvd` with one `.vtu` per frame in
-/// `DIR/<case>/`, `DIR/<case>.energy.csv` (Eq. 25 per output step), `DIR/<case>.probes.csv`
-/// and `DIR/<case>.bodies.csv` (rigid-body histories of the `[output] body_history` bodies).
+/// `DIR/<case>/`, `DIR/<case>.energy.csv` (Eq. 25 per output step), `DIR/<case>.probes.csv`,
+/// `DIR/<case>.bodies.csv` (rigid-body histories of the `[output] body_history` bodies) and
+/// `DIR/<case>.reactions.csv` (forces of the `[output] reactions` sets, N or N/rad).
 /// Frames and the .pvd are written atomically (temporary name, then rename), so an
 /// interrupted run leaves only complete frames and a .pvd that lists them.
 
@@ -76,6 +77,10 @@ public:
   /// Appends the energy balance at t_n (requires advance(diagnostics = true)) and flushes
   /// every CSV.
   void write_energy(const Solver& solver);
+  /// Appends one row of the reactions of the `[output] reactions` sets at t_n (call with
+  /// the energy row, before write_energy, which flushes it; no-op without the key):
+  /// `<set>.fx`, `<set>.fy` per set (Solver::reaction). Allocates nothing.
+  void write_reactions(const Solver& solver);
   /// Appends one row of probe values at t_n.
   void write_probes(const Solver& solver);
   /// Appends one row of body histories at t_n (no-op without `[output] body_history`).
@@ -98,6 +103,7 @@ public:
   [[nodiscard]] const std::string& energy_path() const { return energy_path_; }
   [[nodiscard]] const std::string& probes_path() const { return probes_path_; }
   [[nodiscard]] const std::string& bodies_path() const { return bodies_path_; }
+  [[nodiscard]] const std::string& reactions_path() const { return reactions_path_; }
   [[nodiscard]] const std::string& last_frame() const { return last_frame_; }
   [[nodiscard]] std::size_t frames() const { return pvd_.size(); }
 
@@ -120,9 +126,9 @@ private:
     std::vector<std::string> fields;
   };
   std::string dir_, frame_dir_, name_;
-  std::string pvd_path_, energy_path_, probes_path_, bodies_path_, status_path_, last_frame_;
+  std::string pvd_path_, energy_path_, probes_path_, bodies_path_, reactions_path_, status_path_, last_frame_;
   std::vector<io::PvdEntry> pvd_;
-  CsvFile energy_, probes_, bodies_;
+  CsvFile energy_, probes_, bodies_, reactions_;
   std::vector<ProbePoint> probe_points_;
   /// Body histories: slot of each body index (-1: not recorded), and the per-slot sums
   /// (m, m x, m y, m vx, m vy, kinetic) reused for every row.

@@ -5,6 +5,7 @@
 /// balance (section 6, Eq. 25). SI units.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -135,6 +136,19 @@ public:
   /// Per-body Bloch results, in body order.
   [[nodiscard]] const std::vector<BlochResult>& bloch() const { return bloch_; }
 
+  /// Number of boundary sets in `[output] reactions`.
+  [[nodiscard]] std::size_t num_reaction_sets() const { return reaction_sets_.size(); }
+  /// The force [N; axisymmetric N/rad] that boundary set k of `[output] reactions` exerts on
+  /// the body at t_n, x = r, y = z (docs/file-format.md, "<case>.reactions.csv"); valid during
+  /// at_tn (a mirror spring's force needs the displacement at t_n). A set with a condition:
+  /// the constraint force, the sum over the disks and components its conditions hold of
+  /// m a - F, with F the total force of the force pass at t_n (bonds, hoop term, contacts,
+  /// walls, loads) and a = (v(t+dt/2) - v(t-dt/2)) / dt the acceleration the leap-frog update
+  /// gave the held component (zero for fixed, roller and symmetry components), plus on a
+  /// symmetry set the force -k u of its mirror springs. A set with only pressure loads: the
+  /// force of those loads at t_n. Serial in disk order: deterministic, allocates nothing.
+  [[nodiscard]] std::array<double, 2> reaction(std::size_t k) const;
+
   /// Largest omega^2 of the finite model, M^-1 K, by Lanczos iteration with the force kernel
   /// (for the stable time step). Exposed for tests.
   [[nodiscard]] double finite_omega2_max(int max_iterations = 200);
@@ -152,6 +166,14 @@ private:
     const BoundaryCondition* bc;
     std::vector<std::int32_t> disks;
   };
+  /// A boundary set of `[output] reactions`, resolved once at set-up.
+  struct ReactionSet {
+    std::vector<std::int32_t> disks;  ///< disks the set's conditions hold, ascending
+    std::vector<std::uint8_t> held;   ///< kFixX | kFixY: what the set's conditions hold on each
+    std::vector<std::int32_t> spring_disks;   ///< disks tied to the set's mirror plane
+    std::vector<std::uint8_t> spring_axis;    ///< 0: x spring (wall_kx), 1: y spring (wall_ky)
+    std::vector<std::int32_t> loads;  ///< indices into loads_ (sets without a condition only)
+  };
   struct StepSums {  // per-block energy terms of one step
     double kinetic = 0, kinetic_sq = 0, ext_a = 0, ext_b = 0, damp_a = 0, damp_b = 0;
   };
@@ -163,6 +185,8 @@ private:
   void setup_boundaries();
   void setup_mirror_springs(const BoundaryCondition& bc, int set);
   void setup_loads();
+  /// Resolves `[output] reactions` into reaction_sets_ (after the boundaries and loads).
+  void setup_reactions();
   void setup_initial_velocities();
   void setup_contacts();
   void contact_forces(double dt);
@@ -189,6 +213,7 @@ private:
   std::vector<LoadSet> loads_;
   std::vector<VelocitySet> velocity_sets_;
   std::vector<std::int32_t> loaded_disks_;
+  std::vector<ReactionSet> reaction_sets_;
   std::vector<StepSums> block_sums_;
   TimeStepInfo dt_info_;
   EnergyBalance energy_;
