@@ -122,7 +122,10 @@ for t in $thread_counts; do
   fi
   echo
   echo "== LAMMPS, bond_style harmonic, $how"
-  OMP_NUM_THREADS=$t "${cmd[@]}" > /dev/null
+  # Threads only with the OPENMP package (LAMMPS counts ranks x OMP_NUM_THREADS as procs).
+  omp_threads=1
+  [ "$omp" = 1 ] && omp_threads=$t
+  OMP_NUM_THREADS=$omp_threads "${cmd[@]}" > /dev/null
   # "Loop time of X on P procs for S steps with N atoms"
   line=$(grep '^Loop time of' "$work/lammps.txt")
   echo "  $line"

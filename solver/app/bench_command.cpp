@@ -57,6 +57,26 @@ double parse_count(const std::string& option, const std::string& text, double lo
   return v;
 }
 
+/// Resident memory of the process now [bytes] (VmRSS of /proc/self/status), 0 if unknown.
+double resident_bytes() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return 0;
+  char line[256];
+  double kb = 0;
+  while (std::fgets(line, sizeof line, f) != nullptr)
+    if (std::sscanf(line, "VmRSS: %lf kB", &kb) == 1) break;
+  std::fclose(f);
+  return kb * 1024.0;
+}
+
+/// CPU time of the process so far, all threads [s] (user + system).
+double cpu_seconds() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return static_cast<double>(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
+
 /// Peak resident memory of the process [bytes] (getrusage: kilobytes on Linux).
 double peak_resident_bytes() {
   rusage ru{};
@@ -136,6 +156,7 @@ int run_bench(const BenchArgs& a) {
   c.time.end = 1.0;  // the step is safety x critical; the run takes `steps` steps of it
   c.output.frames = false;
 
+  const double rss_before = resident_bytes();  // the program and its libraries
   const auto t0 = std::chrono::steady_clock::now();
   const meshing::Lattice lattice = solver::mesh_case(c);
   const auto t_mesh = std::chrono::steady_clock::now();
@@ -150,6 +171,7 @@ int run_bench(const BenchArgs& a) {
     m.vy[i] = v0 * std::cos(k * x / 19) * std::sin(k * y / 27 + 0.7);
   }
   const auto t_setup = std::chrono::steady_clock::now();
+  const double cpu_setup = cpu_seconds();
 
   const std::size_t n_disks = m.num_disks(), n_bonds = m.num_bonds();
   for (std::int64_t n = 0; n < steps; ++n) {
@@ -160,6 +182,7 @@ int run_bench(const BenchArgs& a) {
     }
   }
   const auto t_end = std::chrono::steady_clock::now();
+  const double step_cpu = cpu_seconds() - cpu_setup;
   const double mesh_s = std::chrono::duration<double>(t_mesh - t0).count();
   const double setup_s = std::chrono::duration<double>(t_setup - t0).count();
   const double step_s = std::chrono::duration<double>(t_end - t_setup).count();
@@ -179,11 +202,14 @@ int run_bench(const BenchArgs& a) {
   std::printf("  time step %.6g s, %lld steps (energy balance checked every %lld steps)\n", s.dt(),
               static_cast<long long>(steps), static_cast<long long>(kCheckInterval));
   std::printf("  set-up time %.3f s (mesh %.3f s, solver set-up %.3f s)\n", setup_s, mesh_s, setup_s - mesh_s);
-  std::printf("  step time %.3f s (%.6g s per step)\n", step_s, step_s / total_steps);
+  // CPU time shows how much of the wall time the threads ran (a shared machine).
+  std::printf("  step time %.3f s (%.6g s per step; CPU time of all threads %.3f s)\n", step_s, step_s / total_steps,
+              step_cpu);
   if (s.contacts_enabled())
     std::printf("  broken bonds %zu, contact pairs %zu, contact detection %.3f s\n", s.broken_bonds(),
                 s.contacts().size(), s.detection_seconds());
-  std::printf("  peak resident memory %.6g MB\n", peak / 1e6);
+  std::printf("  peak resident memory %.6g MB (%.6g MB before meshing: %.6g bytes/disk beyond it)\n", peak / 1e6,
+              rss_before / 1e6, (peak - rss_before) / static_cast<double>(n_disks));
   std::printf("particle-steps/s: %.6g\n", static_cast<double>(n_disks) * total_steps / step_s);
   std::printf("bond-steps/s: %.6g\n", static_cast<double>(n_bonds) * total_steps / step_s);
   std::printf("peak bytes/disk: %.6g\n", peak / static_cast<double>(n_disks));
