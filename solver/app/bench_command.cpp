@@ -110,7 +110,9 @@ int run_bench(const BenchArgs& a) {
   // along the line half-way between two rows: the contacts of a case with several bodies.
   const double r = 0.5e-3, d = 2 * r, h = std::sqrt(3.0) * r;
   const auto nx = static_cast<std::int64_t>(std::max(2.0, std::round(std::sqrt(disks_wanted * h / d))));
-  const auto ny = static_cast<std::int64_t>(std::max(2.0, std::round(disks_wanted / static_cast<double>(nx))));
+  const double min_rows = a.contacts ? 4.0 : 2.0;  // with contacts, two rows per half at least
+  const auto ny =
+      static_cast<std::int64_t>(std::max(min_rows, std::round(disks_wanted / static_cast<double>(nx))));
   const double width = static_cast<double>(nx - 1) * d + r, height = static_cast<double>(ny - 1) * h;
 
   solver::Case c;
