@@ -1,4 +1,4 @@
-// hexdem: the command-line program. Subcommands: mesh, run, check, sweep, post.
+// hexdem: the command-line program. Subcommands: mesh, run, check, sweep, bench, post.
 // Exit codes: 0 success, 1 internal or numerical failure, 2 bad input (one-line message).
 #include <CLI/CLI.hpp>
 #include <omp.h>
@@ -192,6 +192,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--restart", run.restart, "Continue from a checkpoint <case>.chk ([output] checkpoint_interval)");
   const hexdem::app::Subcommand check = hexdem::app::add_check_command(app);
   const hexdem::app::Subcommand sweep = hexdem::app::add_sweep_command(app);
+  const hexdem::app::Subcommand bench = hexdem::app::add_bench_command(app);
 
   const hexdem::post::PostCommand post = hexdem::post::add_post_command(app);
 
@@ -207,6 +208,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_run(run);
     if (*check.cmd) return check.run();
     if (*sweep.cmd) return sweep.run();
+    if (*bench.cmd) return bench.run();
     if (*post.cmd) return post.run();
   } catch (const hexdem::InputError& e) {
     print_error("error", e.what());

@@ -1,7 +1,7 @@
 #pragma once
 /// \file subcommands.hpp
 /// Subcommands of the hexdem program kept in their own files (check_command.cpp,
-/// sweep_command.cpp). Usage in main(), as for `post`:
+/// sweep_command.cpp, bench_command.cpp). Usage in main(), as for `post`:
 ///
 ///     const Subcommand check = add_check_command(app);
 ///     app.parse(argc, argv);
@@ -21,6 +21,12 @@ struct Subcommand {
   CLI::App* cmd;             ///< the subcommand (owned by the parent app)
   std::function<int()> run;  ///< runs the parsed command
 };
+
+/// `hexdem bench --disks N --model rotation|local-strain [--failure] [--contacts] --steps S
+/// --threads T`: times the solver's step on a square block of about N disks and prints
+/// particle-steps/s, bond-steps/s and peak bytes/disk on its last three lines
+/// (docs/benchmarks.md).
+Subcommand add_bench_command(CLI::App& app);
 
 /// `hexdem check CASE [--set KEY=VALUE]...`: reads, meshes and sets the case up without
 /// running it, and prints the summary (disks per body and set, time step, stability,
