@@ -31,7 +31,7 @@ from run_status import require_completed  # noqa: E402
 
 SCRIPT = "analyse.py"
 GAUGE_WIDTH = 0.030    # m, tension dog-bone
-PRISM_WIDTH = 0.050    # m, compression prism
+PRISM_WIDTH = 0.030    # m, compression specimen: the waist
 LIGAMENT = 0.1009      # m, notched beam: depth 200.92 mm - notch 100 mm
 
 
@@ -51,12 +51,16 @@ def read_csv(path):
     return {name: data[:, k] for k, name in enumerate(rows[0])}
 
 
-def last_frame(pvd):
+def last_frame(pvd, at=None):
+    """The last frame, or the first at or after time `at`."""
     root = ET.parse(pvd).getroot()
     base = os.path.dirname(os.path.abspath(pvd))
     frames = sorted((float(d.get("timestep")), os.path.join(base, d.get("file"))) for d in root.iter("DataSet"))
     if not frames:
         fail("%s: the series has no frames" % pvd)
+    if at is not None:
+        later = [f for f in frames if f[0] >= at]
+        frames = later[:1] if later else frames
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
     from vtkmodules.util.numpy_support import vtk_to_numpy
     reader = vtkXMLUnstructuredGridReader()
@@ -72,8 +76,11 @@ def last_frame(pvd):
     ci, cj = conn[0::2], conn[1::2]
     bond = state < 5  # state 5: a contact between bodies, not a bond
     cracked = bond & ((state >= 2) | (damage > 0.5))
-    return {"mid": 0.5 * (pts[ci] + pts[cj]), "cracked": cracked, "r": float(np.median(radius)),
-            "ref": pts}
+    opened = bond & ((state == 2) | (damage > 0.9))
+    disp = vtk_to_numpy(g.GetPointData().GetArray("displacement"))
+    ref = pts - disp
+    return {"mid": 0.5 * (ref[ci] + ref[cj]), "cracked": cracked, "opened": opened,
+            "r": float(np.median(radius)), "ref": ref, "time": frames[-1][0]}
 
 
 def main(argv):
@@ -93,10 +100,10 @@ def main(argv):
     reactions = read_csv(stem + ".reactions.csv")
     energy = read_csv(stem + ".energy.csv")
     frame = last_frame(a.pvd)
+    time = reactions["time"]
     out = {"kind": a.kind, "angle": case["mesh"].get("angle", 0.0), "radius": case["mesh"]["radius"],
            "seed": case.get("random", {}).get("seed"),
            "max_energy_error": float(np.max(np.abs(energy["relative_error"])))}
-    time = reactions["time"]
     checks = []
     if a.kind in ("tension", "compression"):
         col = "grip.fy" if a.kind == "tension" else "platen.fy"
@@ -114,13 +121,19 @@ def main(argv):
     elif a.kind == "brazilian":
         force = -reactions["top.fy"]
         k = int(np.argmax(force))
+        # The split: the first frame after the load has fallen to 70 % of its peak, the bonds
+        # there that are open (broken, or D > 0.9) in the middle half of the disc's height.
+        drop = np.nonzero((np.arange(len(force)) > k) & (force < 0.7 * force[k]))[0]
+        frame = last_frame(a.pvd, time[drop[0]] if len(drop) else None)
         ys = frame["ref"][:, 1]
         D = ys.max() - ys.min() + 2 * frame["r"]
         out["split_strength_MPa"] = float(2 * force[k] / (math.pi * D * t) / 1e6)
+        out["split_frame_time"] = frame["time"]
         mid = frame["mid"]
-        middle = frame["cracked"] & (np.abs(mid[:, 1]) < 0.25 * D)
+        middle = frame["opened"] & (np.abs(mid[:, 1]) < 0.25 * D)
         out["crack_bonds_middle"] = int(middle.sum())
-        out["crack_offset_mm"] = float(np.mean(np.abs(mid[middle, 0])) * 1e3) if middle.any() else float("nan")
+        # The crack's position: the median abscissa of those bonds (the loaded diameter is x = 0).
+        out["crack_offset_mm"] = float(abs(np.median(mid[middle, 0])) * 1e3) if middle.any() else float("nan")
         out["crack_offset_in_r"] = out["crack_offset_mm"] / (frame["r"] * 1e3)
         checks.append(("the crack runs along the loaded diameter, within 2r", middle.any() and out["crack_offset_in_r"] <= 2.0))
     else:
