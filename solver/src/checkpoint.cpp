@@ -64,6 +64,7 @@ void visit_model(M& m, V& v) {
   v.state("strain_ok", m.strain_ok);
   v.state("eps_xx", m.eps_xx); v.state("eps_yy", m.eps_yy); v.state("eps_xy", m.eps_xy);
   v.state("eps_off_xx", m.eps_off_xx); v.state("eps_off_yy", m.eps_off_yy); v.state("eps_off_xy", m.eps_off_xy);
+  v.state("hoop_cut", m.hoop_cut); v.state("hoop_const", m.hoop_const);
   v.state("w_xx", m.w_xx); v.state("w_xy", m.w_xy); v.state("w_yx", m.w_yx); v.state("w_yy", m.w_yy);
   v.state("hoop_lambda", m.hoop_lambda); v.state("hoop_mu", m.hoop_mu);
   v.state("nu_zz", m.nu_zz);

@@ -76,11 +76,14 @@ double hoop_energy(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
   const double tr = m.eps_xx[i] + m.eps_yy[i];
-  if (!m.hoop_damage.empty() && m.hoop_damage[i] > 0) {
+  if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
+    // A disk that has lost a neighbour: the hoop stress's square only (see hoop_stress).
     const double M = lam + 2 * mu, s = M * eps_tt + lam * tr;
-    if (s > 0) return m.cell_area[i] * m.weight[i] * ((1 - m.hoop_damage[i]) * s * s - lam * lam * tr * tr) / (2 * M);
+    const double g = !m.hoop_damage.empty() && s > 0 ? 1 - m.hoop_damage[i] : 1.0;
+    return m.cell_area[i] * m.weight[i] * g * s * s / (2 * M) - m.hoop_const[i];
   }
-  return m.cell_area[i] * m.weight[i] * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
+  const double g = !m.hoop_damage.empty() && eps_tt > 0 ? 1 - m.hoop_damage[i] : 1.0;
+  return g * m.cell_area[i] * m.weight[i] * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
 }
 
 /// Hoop stress sigma_tt of disk i [Pa] (without a J2 disk's plastic part) and the hoop term's
@@ -93,11 +96,12 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) {
   const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
   const double tr = m.eps_xx[i] + m.eps_yy[i];
   const double s = M * eps_tt + lam * tr;
-  if (!m.hoop_damage.empty() && m.hoop_damage[i] > 0 && s > 0) {
-    const double gs = (1 - m.hoop_damage[i]) * s;
-    return {gs, lam / M * (gs - lam * tr)};
+  if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
+    const double g = !m.hoop_damage.empty() && s > 0 ? 1 - m.hoop_damage[i] : 1.0;
+    return {g * s, g * s * lam / M};
   }
-  return {s, lam * eps_tt};
+  const double g = !m.hoop_damage.empty() && eps_tt > 0 ? 1 - m.hoop_damage[i] : 1.0;
+  return {g * s, g * lam * eps_tt};
 }
 
 /// Hoop cracking of the rings of softening materials (axisymmetric): Rankine on the hoop
@@ -128,13 +132,21 @@ void update_hoop_damage(Model& m) {
     }
     if (e > m.hoop_kappa[i]) {
       const double d = laws::LinearSoftening::damage(e, m.hoop_e0[i], m.hoop_ef[i]);
-      if (d > m.hoop_damage[i]) {
-        // dD A b s^2 / (2M) less the half step of the force drop, as for the bonds:
-        // dD A b s e_prev / 2, e_prev the driver at the last step.
-        m.hoop_fracture[i] += (d - m.hoop_damage[i]) * m.cell_area[i] * m.weight[i] * 0.5 * s * e_last;
+      // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
+      // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
+      // dD (E_h - half step of the force drop) >= 0, the half step taken as for the bonds).
+      const double eps_tt = hoop_strain(m, i), tr = m.eps_xx[i] + m.eps_yy[i];
+      const bool cut = !m.hoop_cut.empty() && m.hoop_cut[i];
+      const double eh = cut ? m.cell_area[i] * m.weight[i] * s * s / (2 * M)
+                            : m.cell_area[i] * m.weight[i] * eps_tt * (0.5 * M * eps_tt + lam * tr);
+      if (d > m.hoop_damage[i] && (cut || eps_tt > 0) && eh > 0) {
+        // The half step, A b (s d(eps_tt) + lambda eps_tt d(tr)) / 2, is taken as A b s d(s/M) / 2
+        // with the driver of the last step (the hoop share of the in-plane force is small).
+        const double half = 0.5 * m.cell_area[i] * m.weight[i] * s * (e - e_last);
+        m.hoop_fracture[i] += (d - m.hoop_damage[i]) * (eh - half);
         m.hoop_damage[i] = d;
+        m.hoop_kappa[i] = e;
       }
-      m.hoop_kappa[i] = e;
     }
   }
 }
@@ -735,7 +747,29 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       // could release negative energy.
       for (std::size_t i : disks) {
         const double exx = m.eps_xx[i], eyy = m.eps_yy[i], exy = m.eps_xy[i];
+        const double hoop_before = hoop ? hoop_energy(m, i) : 0.0;
+        // Its hoop term keeps only the square of the hoop stress from now on, A b s^2 / (2M)
+        // (s = M eps_tt + lambda tr), less a constant that keeps the energy continuous. The
+        // full term adds -A b lambda^2 tr^2 / (2M), which only a complete neighbourhood's
+        // in-plane springs make up for: without them it is unbounded below (measured: a
+        // rotated warhead's run stopped with a negative elastic energy when disks under the
+        // nose that had lost bonds reached -1 J/rad of hoop energy).
+        const auto restore_hoop = [&] {
+          if (!hoop) return;
+          m.hoop_cut[i] = 1;
+          m.hoop_const[i] += hoop_energy(m, i) - hoop_before;
+        };
         update_strain_matrix(m, i);
+        if (m.minv_xx[i] == 0 && m.minv_yy[i] == 0) {
+          // No fit left (fewer than two independent bonds): the disk has no strain. Carrying
+          // one over would freeze it, and the hoop term's coupling lambda eps_tt tr with a
+          // frozen tr is unbounded below (measured: a detached disk under a rotated warhead's
+          // nose reached -0.44 J/rad and the run stopped with a negative elastic energy).
+          m.eps_off_xx[i] = m.eps_off_yy[i] = m.eps_off_xy[i] = 0.0;
+          disk_strain(m, i);
+          restore_hoop();
+          continue;
+        }
         disk_strain(m, i);
         m.eps_off_xx[i] += m.eps_xx[i] - exx;
         m.eps_off_yy[i] += m.eps_yy[i] - eyy;
@@ -743,6 +777,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
         m.eps_xx[i] = exx;
         m.eps_yy[i] = eyy;
         m.eps_xy[i] = exy;
+        restore_hoop();
       }
       for (std::size_t k = 0; k < count && local; ++k) {
         const std::size_t c = touched[k];

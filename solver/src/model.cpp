@@ -200,6 +200,10 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   if (m.any_breakable) {
     for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy})
       v->assign(n, 0.0);
+    if (axisym) {
+      m.hoop_cut.assign(n, 0);
+      m.hoop_const.assign(n, 0.0);
+    }
   }
   // Disks with a local strain of their own: eliminate those whose fit over the remaining
   // ones is singular until none is left (a chain of lone disks goes in a few rounds).
@@ -228,7 +232,8 @@ void reset_bond_history(Model& m) {
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
-  for (auto* v : {&m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0, &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef,
+  std::fill(m.hoop_cut.begin(), m.hoop_cut.end(), 0);
+  for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0, &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef,
                   &m.hoop_fracture, &m.hoop_e_last}) {
     std::fill(v->begin(), v->end(), 0.0);
   }

@@ -688,9 +688,9 @@ int run_case(const Case& c, const RunOptions& options) {
     if (probe) {
       out.write_probes(s);
       out.write_bodies(s);
+      out.write_reactions(s);
     }
     if (energy_row) {
-      out.write_reactions(s);
       out.write_energy(s);
       max_error = std::max(max_error, std::abs(s.energy().relative_error()));
     }
@@ -701,7 +701,8 @@ int run_case(const Case& c, const RunOptions& options) {
     const double t = static_cast<double>(n) * dt;
     const bool last = n == steps;
     frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
-    probe = (!c.probes.empty() || !c.output.body_history.empty()) && (n == 0 || last || t >= next_probe - 0.5 * dt);
+    probe = (!c.probes.empty() || !c.output.body_history.empty() || !c.output.reactions.empty()) &&
+            (n == 0 || last || t >= next_probe - 0.5 * dt);
     energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
     const bool check = energy_row || n % 50 == 0;
     ok = solver.advance(check, at_tn);

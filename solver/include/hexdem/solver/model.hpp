@@ -92,6 +92,11 @@ struct Model {
   /// Breakable models: the strain carried across changes of a disk's fit, eps = fit(u) -
   /// eps_off (settle_broken_bonds) [-]; empty otherwise.
   std::vector<double> eps_off_xx, eps_off_yy, eps_off_xy;
+  /// Breakable axisymmetric models: 1 once the disk has lost a neighbour (its hoop term keeps
+  /// only the square of the hoop stress), and the constant that kept its energy continuous
+  /// then [J]; empty otherwise.
+  std::vector<std::uint8_t> hoop_cut;
+  std::vector<double> hoop_const;
   std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
   /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
   /// the disks of J2 materials; else 0).
