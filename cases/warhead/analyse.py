@@ -443,7 +443,10 @@ def check(results):
 
 def first_cracks_under_nose(result, count=10):
     """True if the first `count` target bonds to break (by break_time, final frame) lie within
-    5 mm of the axis and of the top face: damage starts under the nose."""
+    5 mm of the axis and 6 mm of the top face: damage starts under the nose. (With softening
+    tension cracks, the first bonds to break completely are the brittle shear breaks under the
+    nose, down to the third row of the reduced case's r = 1 mm lattice, 5.2 mm deep; the bound
+    was 5 mm with the brittle law.)"""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     grid = read_frame(read_pvd(result["series"])[-1][1])
     a = arrays(grid)
@@ -457,7 +460,7 @@ def first_cracks_under_nose(result, count=10):
     mid = 0.5 * (x0[a["cell_i"][first]] + x0[a["cell_j"][first]])
     result["first_cracks"] = {"bonds": count, "until_s": float(when[first].max()),
                               "max_r_m": float(mid[:, 0].max()), "min_z_m": float(mid[:, 1].min())}
-    return bool(mid[:, 0].max() < 0.005 and mid[:, 1].min() > -0.005)
+    return bool(mid[:, 0].max() < 0.005 and mid[:, 1].min() > -0.006)
 
 
 def main(argv):
