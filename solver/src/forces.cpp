@@ -382,8 +382,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // The continuum stress is taken from the local strain of disks with a full neighbourhood
   // (six bonds in the initial lattice): at an edge the least-squares strain of a disk with
   // three or four bonds is a poor estimate of the stress (a Brazilian disc cracked at its free
-  // rim with it). A bond between two edge disks uses the tension cut-off of Eq. 19 on its own
-  // normal force: along a free edge that is the edge-parallel stress.
+  // rim with it). A bond between two edge disks uses Eq. 19 on its own forces: along a free
+  // edge its normal force is the edge-parallel stress.
   const bool full_i = m.strain_ok[i] && m.initial_bonds[i] == 6, full_j = m.strain_ok[j] && m.initial_bonds[j] == 6;
   if (!full_i && !full_j) {
     const double sec = m.section[b] * scale;
@@ -396,12 +396,9 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       m.delta_f[b] = laws::LinearSoftening::crack_opening(sp.G_F, st.F_t / sec);
       m.newly_broken[b] = m.delta_f[b] > delta ? kStartsCracking
                                                 : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+    } else if (mode != laws::FailureMode::None) {
+      m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
     }
-    // No shear or crushing check between two edge disks: the bond's own forces depend on its
-    // direction (that is what the continuum criterion removes), and a bond along a loaded
-    // edge of a rotated lattice crushed long before the interior (a compression test lost 40 %
-    // of its strength at a lattice angle of 10 degrees). Such bonds fail in shear or crushing
-    // only through their neighbours: when the interior next to them has failed.
     return;
   }
   // The continuum stress at the midpoint: C : (eps_i + eps_j) / 2 (with the hoop strain).
@@ -411,10 +408,12 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const bool axisym = m.geometry == Geometry::Axisymmetric;
   const double ett = axisym ? wi * hoop_strain(m, i) + wj * hoop_strain(m, j) : 0.0;
   const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
-  const laws::Principal2D p = laws::principal_2d(iso + 2 * sp.mu * exx, iso + 2 * sp.mu * eyy, 2 * sp.mu * exy);
+  const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
+  const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
   const double f_t = law.f_t * rf.tension * scale;
   if (p.s1 > f_t && delta > 0) {
-    const double cosine = std::abs(m.nx[b] * p.n1x + m.ny[b] * p.n1y);
+    const laws::Principal2D d = laws::principal_2d(sxx, syy, sxy);
+    const double cosine = std::abs(m.nx[b] * d.n1x + m.ny[b] * d.n1y);
     m.delta0[b] = m.kappa[b] = delta;
     m.delta_f[b] = laws::LinearSoftening::crack_opening(sp.G_F, f_t) * cosine;
     // A bond whose share of the opening is below its elastic stretch cannot soften: it breaks.

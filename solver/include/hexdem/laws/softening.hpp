@@ -42,7 +42,17 @@ struct Principal2D {
   double n1x = 1, n1y = 0;  ///< unit vector of s1
 };
 
-/// Principal values of the symmetric tensor (sxx, syy, sxy).
+/// Principal values of the symmetric tensor (sxx, syy, sxy), without the direction (one
+/// square root: the criteria need the direction only when a crack starts).
+[[nodiscard]] inline Principal2D principal_values_2d(double sxx, double syy, double sxy) noexcept {
+  const double c = 0.5 * (sxx + syy), R = std::hypot(0.5 * (sxx - syy), sxy);
+  Principal2D p;
+  p.s1 = c + R;
+  p.s2 = c - R;
+  return p;
+}
+
+/// Principal values of the symmetric tensor (sxx, syy, sxy) and the direction of s1.
 [[nodiscard]] inline Principal2D principal_2d(double sxx, double syy, double sxy) noexcept {
   const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
   const double R = std::hypot(d, sxy);
