@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Figure of the virtual material tests (cases/material_tests/README.md).
+
+    figures.py OUT.png --tension T.json --brazilian B.json --beam BEAM.json [BEAM2.json ...]
+
+T.json and B.json are `run_study.py --json` files of the angle studies, BEAM*.json those of
+notched-beam runs (one curve per run). Left: the tension test's stress-displacement curves at
+every lattice angle; middle: the Brazilian discs' open bonds (broken, or D > 0.9) at the split,
+one colour per angle; right: the notched beam's load-deflection curves.
+"""
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("out")
+    ap.add_argument("--tension", required=True)
+    ap.add_argument("--brazilian", required=True)
+    ap.add_argument("--beam", nargs="+", required=True)
+    a = ap.parse_args(argv)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from analyse import last_frame  # noqa: E402
+
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.6))
+    tension = json.load(open(a.tension))["runs"]
+    for r in sorted(tension, key=lambda r: r["angle"]):
+        c = r["curve"]
+        ax[0].plot(c["displacement_um"], c["stress_MPa"], label="%g deg: %.2f MPa" % (r["angle"], r["peak_stress_MPa"]))
+    ax[0].set_xlabel("grip displacement [um]")
+    ax[0].set_ylabel("nominal stress [MPa]")
+    ax[0].set_title("uniaxial tension, lattice angles 0-30 deg")
+    ax[0].legend()
+
+    brazilian = json.load(open(a.brazilian))["runs"]
+    study_dir = os.path.dirname(os.path.abspath(a.brazilian))
+    for r in sorted(brazilian, key=lambda r: r["angle"]):
+        pvd = os.path.join(study_dir, "brazilian", "a%g" % r["angle"], "brazilian.pvd")
+        if not os.path.isfile(pvd):
+            continue
+        f = last_frame(pvd, r["split_frame_time"])
+        mid = f["mid"][f["opened"]]
+        ax[1].scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3,
+                      label="%g deg: %.2f MPa, %.1f r" % (r["angle"], r["split_strength_MPa"], r["crack_offset_in_r"]))
+    t = np.linspace(0, 2 * np.pi, 200)
+    ax[1].plot(51.3 * np.cos(t), 51.3 * np.sin(t), color="0.6", lw=0.8)
+    ax[1].set_aspect("equal")
+    ax[1].set_xlabel("x [mm]")
+    ax[1].set_ylabel("y [mm]")
+    ax[1].set_title("Brazilian disc: open bonds at the split")
+    ax[1].legend(fontsize=8, loc="lower right")
+
+    for path in a.beam:
+        for r in json.load(open(path))["runs"]:
+            c = r["curve"]
+            ax[2].plot(c["deflection_mm"], c["load_N"],
+                       label="r = %g mm: peak %.0f N, W/A %.0f J/m^2" % (r["radius"] * 1e3, r["peak_load_N"],
+                                                                       r["work_of_fracture_J_m2"]))
+    ax[2].set_xlabel("deflection [mm]")
+    ax[2].set_ylabel("load [N]")
+    ax[2].set_title("notched beam (Petersson), G_F = 124 J/m^2")
+    ax[2].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(a.out, dpi=110)
+    print(a.out)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
