@@ -67,11 +67,11 @@ inline double hoop_strain(const Model& m, std::size_t i) {
 
 /// Axisymmetric hoop term of disk i: A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt
 /// (eps_rr + eps_zz)] [J] (physics.md section 10).
-/// With hoop cracking (damage D_h of a softening material's ring), the term is written as
-/// A b [s^2 / (2M) - lambda^2 tr^2 / (2M)], s = M eps_tt + lambda tr the hoop stress,
-/// M = lambda + 2 mu, tr = eps_rr + eps_zz, and the first part is multiplied by 1 - D_h while
-/// s > 0: a fully cracked ring carries no hoop stress (its in-plane energy becomes that of
-/// sigma_tt = 0), and the hoop energy stays convex in the strains.
+/// With hoop cracking (damage D_h of a softening material's ring) the term is multiplied by
+/// 1 - D_h while the ring is stretched (eps_tt > 0). A disk that has lost a neighbour
+/// (hoop_cut) keeps only A b s^2 / (2M), s = M eps_tt + lambda tr the hoop stress,
+/// M = lambda + 2 mu, tr = eps_rr + eps_zz, less the constant that kept its energy continuous
+/// then (settle_broken_bonds; docs/model.md, "Energy at a break").
 double hoop_energy(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
@@ -108,7 +108,8 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) {
 /// stress s starts it, then the hoop stress softens linearly in e = s / M down to zero at
 /// e_f = 2 G_F / (h f_t), with the crack band h = 2 pi b / n of n radial cracks (a radial
 /// crack is a meridian half-plane: it cuts every ring once, so n is a property of the body,
-/// not of the lattice). The dissipation of each step, dD A b s^2 / (2M), is >= 0.
+/// not of the lattice). Damage grows only while the hoop term is positive; each step books
+/// dD (E_h - A b s de / 2), the drop of the term less the half step of the force drop.
 void update_hoop_damage(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
 #pragma omp parallel for schedule(static)
@@ -335,13 +336,28 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
 /// newly_broken code of a bond that starts to crack (it stays intact, leaves its disks' fits).
 constexpr std::uint8_t kStartsCracking = 8;
 
+/// Eq. 19: the strengths of a bond of failure law l with section `sec` [m^2] (times the
+/// random field's factor) at the rate factors rf, with tan(phi) precomputed per law.
+inline laws::BondStrength bond_strength(const Model& m, std::size_t l, const laws::RateFactors& rf, double sec) {
+  const laws::MohrCoulombFailure& law = m.failure_laws[l];
+  return {law.f_t * rf.tension * sec, law.f_c * rf.compression * sec, law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
+}
+
+/// Bond b starts to crack at elongation delta, to fail at delta_f; a bond whose share of the
+/// opening is not above its elastic stretch cannot soften: it breaks in tension at once.
+inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f) {
+  m.delta0[b] = m.kappa[b] = delta;
+  m.delta_f[b] = delta_f;
+  m.newly_broken[b] = delta_f > delta ? kStartsCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+}
+
 /// Pass B for a bond of a softening material (docs/model.md, "Fracture energy and
 /// softening"); the shear measure u_s is already updated (rotation model: accumulated).
 /// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression fully) and
 /// (1 - D) k_s u_s. Damage grows with the elongation past its largest value, by the linear
-/// law between delta0 and delta_f, and books dD (k_n delta^2 + k_s u_s^2) / 2 >= 0 as fracture
-/// energy (only while that energy is positive: with k_s < 0 a growing D must not release
-/// negative energy). An intact bond checks the continuum stress at its midpoint: Rankine in
+/// law between delta0 and delta_f, only while the springs' energy e is positive, and books
+/// dD (e - half step of the force drop) as fracture energy. An intact bond checks the
+/// continuum stress at its midpoint: Rankine in
 /// tension starts cracking with delta_f = w_c |n . n1|; Mohr-Coulomb shear and crushing on the
 /// principal stresses break it (brittle); a bond of a disk without a local strain uses the
 /// bond criterion of Eq. 19.
@@ -387,15 +403,11 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const bool full_i = m.strain_ok[i] && m.initial_bonds[i] == 6, full_j = m.strain_ok[j] && m.initial_bonds[j] == 6;
   if (!full_i && !full_j) {
     const double sec = m.section[b] * scale;
-    const laws::BondStrength st{law.f_t * rf.tension * sec, law.f_c * rf.compression * sec,
-                                law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
+    const laws::BondStrength st = bond_strength(m, l, rf, sec);
     const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], st);
     if (mode == laws::FailureMode::Tension && delta > 0) {
       // Cracking starts as for the continuum criterion, with the bond as the crack normal.
-      m.delta0[b] = m.kappa[b] = delta;
-      m.delta_f[b] = laws::LinearSoftening::crack_opening(sp.G_F, st.F_t / sec);
-      m.newly_broken[b] = m.delta_f[b] > delta ? kStartsCracking
-                                                : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+      start_cracking(m, b, delta, laws::LinearSoftening::crack_opening(sp.G_F, st.F_t / sec));
     } else if (mode != laws::FailureMode::None) {
       m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
     }
@@ -414,11 +426,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   if (p.s1 > f_t && delta > 0) {
     const laws::Principal2D d = laws::principal_2d(sxx, syy, sxy);
     const double cosine = std::abs(m.nx[b] * d.n1x + m.ny[b] * d.n1y);
-    m.delta0[b] = m.kappa[b] = delta;
-    m.delta_f[b] = laws::LinearSoftening::crack_opening(sp.G_F, f_t) * cosine;
-    // A bond whose share of the opening is below its elastic stretch cannot soften: it breaks.
-    m.newly_broken[b] = m.delta_f[b] > delta ? kStartsCracking
-                                              : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+    start_cracking(m, b, delta, laws::LinearSoftening::crack_opening(sp.G_F, f_t) * cosine);
     return;
   }
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
@@ -507,9 +515,8 @@ void compute_bond_forces(Model& m, double dt) {
       const auto l = static_cast<std::size_t>(m.failure_law[b]);
       const laws::MohrCoulombFailure& law = m.failure_laws[l];
       const laws::RateFactors rf = edot > 1.0 ? law.rate_factors(edot) : laws::RateFactors{};
-      const double sec = m.section[b] * m.strength_factor(static_cast<std::size_t>(b));
-      const laws::BondStrength strength{law.f_t * rf.tension * sec, law.f_c * rf.compression * sec,
-                                        law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
+      const laws::BondStrength strength =
+          bond_strength(m, l, rf, m.section[b] * m.strength_factor(static_cast<std::size_t>(b)));
       const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], strength);
       // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into a
       // contact and books what the break releases.
