@@ -34,10 +34,11 @@ def run(hexdem, out_dir, dt, end, tag):
         sys.exit("run_study.py: hexdem failed: " + p.stderr.strip())
     rows = []
     with open(os.path.join(out_dir, tag + ".energy.csv")) as f:
-        next(f)
+        header = next(f).strip().split(",")
+        t, e = header.index("time"), header.index("relative_error")
         for line in f:
             v = line.strip().split(",")
-            rows.append((float(v[0]), float(v[12])))
+            rows.append((float(v[t]), float(v[e])))
     return p.returncode == 0, p.stdout, p.stderr, rows
 
 

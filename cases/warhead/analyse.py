@@ -268,7 +268,7 @@ def analyse(hexdem, pvd):
 
     last = {k: float(energy[k][-1]) for k in energy}
     terms = ["kinetic", "elastic", "external_work", "damping", "plastic", "fracture",
-             "contact_damping", "friction"]
+             "contact_damping", "friction", "break_kinetic"]
     err = energy["relative_error"]
     inp = energy["input"]
     max_err = float(np.abs(err[inp > 0]).max())

@@ -98,6 +98,7 @@ void visit_model(M& m, V& v) {
   v.state("failure_tan_phi", m.failure_tan_phi);
   v.state("plastic_work", m.plastic_work);
   v.state("fracture_energy", m.fracture_energy);
+  v.state("break_kinetic", m.break_kinetic);
   v.state("contact_damping_work", m.contact_damping_work);
   v.state("friction_work", m.friction_work);
   v.state("newly_broken", m.newly_broken);
@@ -111,6 +112,7 @@ void visit_model(M& m, V& v) {
   v.state("hoop_e0", m.hoop_e0); v.state("hoop_ef", m.hoop_ef);
   v.state("hoop_e_last", m.hoop_e_last);
   v.state("hoop_fracture", m.hoop_fracture);
+  v.state("hoop_break_kinetic", m.hoop_break_kinetic);
   v.state("strength_scale", m.strength_scale); v.state("disk_strength_scale", m.disk_strength_scale);
   v.state("f_damp", m.f_damp);
   v.rebuilt("fx_intact", m.fx_intact);  // work space of settle_broken_bonds
@@ -133,6 +135,7 @@ void visit_model(M& m, V& v) {
   v.state("adj_ax", m.adj_ax); v.state("adj_ay", m.adj_ay);
   v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
   v.rebuilt("event_weights", m.event_weights);  // work space of settle_broken_bonds
+  v.rebuilt("event_half", m.event_half);  // work space of settle_broken_bonds
 }
 
 }  // namespace

@@ -109,7 +109,9 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) {
 /// e_f = 2 G_F / (h f_t), with the crack band h = 2 pi b / n of n radial cracks (a radial
 /// crack is a meridian half-plane: it cuts every ring once, so n is a property of the body,
 /// not of the lattice). Damage grows only while the hoop term is positive; each step books
-/// dD (E_h - A b s de / 2), the drop of the term less the half step of the force drop.
+/// dD (E_h - A b s de / 2), the drop of the term less the half step of the force drop, as
+/// fracture energy (its negative part, where s changed sign within the step, as
+/// hoop_break_kinetic).
 void update_hoop_damage(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
 #pragma omp parallel for schedule(static)
@@ -135,7 +137,7 @@ void update_hoop_damage(Model& m) {
       const double d = laws::LinearSoftening::damage(e, m.hoop_e0[i], m.hoop_ef[i]);
       // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
       // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
-      // dD (E_h - half step of the force drop) >= 0, the half step taken as for the bonds).
+      // dD (E_h - half step of the force drop), the half step taken as for the bonds).
       const double eps_tt = hoop_strain(m, i), tr = m.eps_xx[i] + m.eps_yy[i];
       const bool cut = !m.hoop_cut.empty() && m.hoop_cut[i];
       const double eh = cut ? m.cell_area[i] * m.weight[i] * s * s / (2 * M)
@@ -144,7 +146,9 @@ void update_hoop_damage(Model& m) {
         // The half step, A b (s d(eps_tt) + lambda eps_tt d(tr)) / 2, is taken as A b s d(s/M) / 2
         // with the driver of the last step (the hoop share of the in-plane force is small).
         const double half = 0.5 * m.cell_area[i] * m.weight[i] * s * (e - e_last);
-        m.hoop_fracture[i] += (d - m.hoop_damage[i]) * (eh - half);
+        const double released = (d - m.hoop_damage[i]) * (eh - half);
+        m.hoop_fracture[i] += std::max(released, 0.0);
+        m.hoop_break_kinetic[i] += std::min(released, 0.0);
         m.hoop_damage[i] = d;
         m.hoop_kappa[i] = e;
       }
@@ -356,7 +360,8 @@ inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f
 /// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression fully) and
 /// (1 - D) k_s u_s. Damage grows with the elongation past its largest value, by the linear
 /// law between delta0 and delta_f, only while the springs' energy e is positive, and books
-/// dD (e - half step of the force drop) as fracture energy. An intact bond checks the
+/// dD (e - half step of the force drop) as fracture energy (a negative part as break_kinetic).
+/// An intact bond checks the
 /// continuum stress at its midpoint: Rankine in
 /// tension starts cracking with delta_f = w_c |n . n1|; Mohr-Coulomb shear and crushing on the
 /// principal stresses break it (brittle); a bond of a disk without a local strain uses the
@@ -375,9 +380,13 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       // break"): the drop of the springs' energy, dD e, less the half step of the force drop
       // that leap-frog's kinetic energy holds, (dt/2) v.dF = dD (k_n delta du_n + k_s u_s du_s) / 2
       // with the increments of the last step. Together dD (k_n delta delta_prev + k_s u_s
-      // u_s_prev) / 2.
+      // u_s_prev) / 2: the springs' energy in the bilinear form of the two steps, second-order
+      // accurate. It is >= 0 unless a measure changed sign within the step; then the spring's
+      // energy passed through 0 and the negative part is the integrator's (break_kinetic).
       const double half = 0.5 * (m.k_n[b] * delta * du_n + m.k_s[b] * us * du_s);
-      m.fracture_energy[b] += (d - m.damage[b]) * (e - half);
+      const double released = (d - m.damage[b]) * (e - half);
+      m.fracture_energy[b] += std::max(released, 0.0);
+      m.break_kinetic[b] += std::min(released, 0.0);
       m.damage[b] = d;
       m.kappa[b] = delta;
     }
@@ -400,6 +409,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // three or four bonds is a poor estimate of the stress (a Brazilian disc cracked at its free
   // rim with it). A bond between two edge disks uses Eq. 19 on its own forces: along a free
   // edge its normal force is the edge-parallel stress.
+  // A disk that has lost its fit gives its frozen strain (settle_broken_bonds): excluding it
+  // (Eq. 19 on the bond's own forces instead) made a rotated bar's crack dissipate 0.86 G_F A.
   const bool full_i = m.strain_ok[i] && m.initial_bonds[i] == 6, full_j = m.strain_ok[j] && m.initial_bonds[j] == 6;
   if (!full_i && !full_j) {
     const double sec = m.section[b] * scale;
@@ -675,10 +686,62 @@ BondDissipation bond_dissipation(const Model& m) {
   d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.fracture_energy[b]; }, m.scratch);
   if (!m.hoop_fracture.empty())
     d.fracture += deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_fracture[i]; }, m.scratch);
+  d.break_kinetic = deterministic_sum(nb, [&](std::size_t b) { return m.break_kinetic[b]; }, m.scratch);
+  if (!m.hoop_break_kinetic.empty())
+    d.break_kinetic +=
+        deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_break_kinetic[i]; }, m.scratch);
   d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work[b]; }, m.scratch);
   d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.friction_work[b]; }, m.scratch);
   return d;
 }
+
+namespace {
+
+/// Strain rate of disk i from the velocities v(t - dt/2) with its current fit [1/s]
+/// (disk_strain applied to velocities; the offsets are constant).
+std::array<double, 3> disk_strain_rate(const Model& m, std::size_t i) {
+  double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
+  for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
+    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    const auto o = m.adj_other[k];
+    if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
+    const double ax = m.adj_ax[k], ay = m.adj_ay[k];
+    const double dvx = m.vx[o] - m.vx[i], dvy = m.vy[o] - m.vy[i];
+    gxx += dvx * ax;
+    gxy += dvx * ay;
+    gyx += dvy * ax;
+    gyy += dvy * ay;
+  }
+  const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
+  return {gxx * mxx + gxy * mxy, gyx * mxy + gyy * myy,
+          m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
+}
+
+/// Half the work of bond b's own springs over the last step, (f_n d(delta) + f_s d(u_s)) / 2
+/// [J], with the increments from the velocities: x(t_n - dt) = x(t_n) - dt v(t - dt/2). This is
+/// the bond's part of the break's kinetic half step, (dt/2) v.dF_own (docs/model.md, "Energy
+/// at a break"); its stored energy less it is the bilinear form of the two steps. Also
+/// returns the length increment d(L) [m].
+struct HalfStep {
+  double half = 0, d_len = 0;
+};
+HalfStep own_half_step(const Model& m, std::size_t b, double dt, bool local) {
+  if (dt == 0) return {};
+  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+  const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
+  const double dx = m.ax[b] + (m.ux[j] - m.ux[i]) - dt * dvx, dy = m.ay[b] + (m.uy[j] - m.uy[i]) - dt * dvy;
+  const double d_delta = m.len_prev[b] - std::sqrt(dx * dx + dy * dy);
+  double d_us = 0.0;
+  if (!local) {
+    d_us = dt * (-dvx * m.ny[b] + dvy * m.nx[b] - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+  } else if (m.strain_ok[i] && m.strain_ok[j]) {
+    const std::array<double, 3> ri = disk_strain_rate(m, i), rj = disk_strain_rate(m, j);
+    d_us = dt * (m.g_xx[b] * (ri[0] + rj[0]) + m.g_yy[b] * (ri[1] + rj[1]) + 2.0 * m.g_xy[b] * (ri[2] + rj[2]));
+  }
+  return {0.5 * (m.f_n[b] * d_delta + m.f_s[b] * d_us), d_delta};
+}
+
+}  // namespace
 
 std::size_t settle_broken_bonds(Model& m, double dt) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
@@ -698,10 +761,22 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   std::copy(m.fy.begin(), m.fy.end(), m.fy_intact.begin());
   std::copy(m.torque.begin(), m.torque.end(), m.torque_intact.begin());
 
+  // Each breaking bond's own half step and length increment, before any break of the pass
+  // changes a fit.
+  for (std::size_t b = first; b < m.num_bonds(); ++b)
+    if (m.newly_broken[b]) {
+      const HalfStep h = own_half_step(m, b, dt, local);
+      m.event_half.push_back(h.half);
+      m.event_half.push_back(h.d_len);
+    }
+
   std::array<std::size_t, 64> touched{};  // intact bonds whose shear depends on the two disks
-  double potential = 0, weights = 0;
+  double coupled = 0, weights = 0, dashpot = 0;
+  std::size_t ev = 0;
   for (std::size_t b = first; b < m.num_bonds(); ++b) {
     if (!m.newly_broken[b]) continue;
+    const double own_half = m.event_half[2 * ev], d_len = m.event_half[2 * ev + 1];
+    ++ev;
     const std::array<std::size_t, 2> disks{static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b])};
     // The potential part of the release: every energy term that the break changes, before
     // and after. The two disks lose a neighbour, so their least-squares strain changes, and
@@ -716,8 +791,9 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
             touched[count++] = c;
         }
     }
+    const auto own_energy = [&]() { return m.bond_intact(b) ? intact_bond_energy(m, b) : contact_bond_energy(m, b); };
     auto energy = [&]() {
-      double e = m.bond_intact(b) ? intact_bond_energy(m, b) : contact_bond_energy(m, b);
+      double e = own_energy();
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t c = touched[k];
         if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * shear_factor(m, c) * m.k_s[c] * m.u_s[c] * m.u_s[c];
@@ -765,17 +841,15 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
           m.hoop_cut[i] = 1;
           m.hoop_const[i] += hoop_energy(m, i) - hoop_before;
         };
+        // With no fit left (fewer than two independent bonds: M^-1 = 0) the same rule keeps
+        // the strain frozen at its last value, eps = -eps_off. Clearing it instead changed the
+        // shear energy of the disk's last bonds by an amount of either sign (a negative
+        // release). A frozen strain is bounded below in every term: the shear springs are
+        // squares, and the hoop term is cut to the hoop stress's square (restore_hoop); the
+        // full term's coupling lambda eps_tt tr with a frozen tr was not (a detached disk
+        // under a rotated warhead's nose reached -0.44 J/rad). Such a disk gives no stress to
+        // the failure criteria (softening_bond).
         update_strain_matrix(m, i);
-        if (m.minv_xx[i] == 0 && m.minv_yy[i] == 0) {
-          // No fit left (fewer than two independent bonds): the disk has no strain. Carrying
-          // one over would freeze it, and the hoop term's coupling lambda eps_tt tr with a
-          // frozen tr is unbounded below (measured: a detached disk under a rotated warhead's
-          // nose reached -0.44 J/rad and the run stopped with a negative elastic energy).
-          m.eps_off_xx[i] = m.eps_off_yy[i] = m.eps_off_xy[i] = 0.0;
-          disk_strain(m, i);
-          restore_hoop();
-          continue;
-        }
         disk_strain(m, i);
         m.eps_off_xx[i] += m.eps_xx[i] - exx;
         m.eps_off_yy[i] += m.eps_yy[i] - eyy;
@@ -800,7 +874,27 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
         for (std::size_t i : disks)
           if (m.j2_sigma_y[i] > 0) store_j2_stress(m, i);
     }
-    potential += before - energy();
+    // The bond's own release: what its springs stored less their half step, the bilinear
+    // form of the energy over the two steps (as for a damage step; >= 0 unless a measure
+    // changed sign within the step), less what its contact keeps. The rest of the change is
+    // the integrator's: the kinetic half step of the force changes of the other bonds (the
+    // disks' fits change their gradients, not their energy) and the round-off of their energy.
+    // The contact that replaces a bond broken in compression keeps the overlap's energy, in
+    // the same form: its spring's energy less its half step, E_c - (dE_c/dL) dL / 2 with
+    // dE_c/dL = -k_c overlap (its shear starts at 0).
+    const double overlap = m.radius[disks[0]] + m.radius[disks[1]] - m.len_prev[b];
+    const double kept = starts_cracking ? 0.0
+                        : own_energy() + (overlap > 0 ? 0.5 * contact_normal_stiffness(m, b) * overlap * d_len : 0.0);
+    const double own_release = starts_cracking ? 0.0 : std::max(own - own_half - kept, 0.0);
+    m.fracture_energy[b] += own_release;
+    coupled += before - energy() - own_release;
+    if (!starts_cracking) {
+      // The new contact's dashpot force acts from t_n: its half step before t_n is dashpot
+      // work (f_v, the dashpot's part of f_n, opposes the approach: >= 0).
+      const double half_v = 0.5 * m.f_damp[b] * d_len;
+      m.contact_damping_work[b] += half_v;
+      dashpot += half_v;
+    }
     // The event's weight: the energy its springs stored (kept in order, one per event).
     m.event_weights.push_back(own);
     weights += own;
@@ -817,19 +911,20 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
                m.omega[i] * (m.torque_intact[i] - m.torque[i]);
       },
       m.scratch);
-  // What the breaks of this pass released together, shared by the bonds in proportion to the
-  // energy each stored (equally if none stored any): simultaneous breaks change the same
-  // disks' strains, so only the pass's total is a property of the breaks.
-  const double released = potential + kinetic;
+  // The integrator's share of the pass's breaks (and the round-off of the neighbours' terms),
+  // of either sign and O(dt), shared by the bonds in proportion to the energy each stored
+  // (equally if none stored any): it is the pass's total only that is a property of the breaks.
+  const double released = coupled + kinetic - dashpot;
   std::size_t event = 0, breaks = 0;
   for (std::size_t b = first; b < m.num_bonds(); ++b) {
     if (!m.newly_broken[b]) continue;
     breaks += m.newly_broken[b] != kStartsCracking;
     m.newly_broken[b] = 0;
     const double w = m.event_weights[event++];
-    m.fracture_energy[b] += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);
+    m.break_kinetic[b] += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);
   }
-  m.event_weights.clear();  // keeps its capacity: no allocation once grown
+  m.event_weights.clear();  // keep their capacity: no allocation once grown
+  m.event_half.clear();
   return breaks;
 }
 

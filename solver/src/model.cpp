@@ -83,7 +83,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     v->assign(nb, 0.0);
   }
   for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.len_prev, &m.section, &m.mu,
-                  &m.plastic_work, &m.fracture_energy, &m.contact_damping_work, &m.friction_work}) {
+                  &m.plastic_work, &m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic}) {
     v->assign(nb, 0.0);
   }
   m.failure_law.assign(nb, -1);
@@ -120,7 +120,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     for (auto* v : {&m.damage, &m.kappa, &m.delta0, &m.delta_f}) v->assign(nb, 0.0);
     m.cracking.assign(nb, 0);
     if (axisym)
-      for (auto* v : {&m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_fracture, &m.hoop_e_last}) v->assign(n, 0.0);
+      for (auto* v : {&m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_fracture, &m.hoop_e_last, &m.hoop_break_kinetic}) v->assign(n, 0.0);
   }
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   m.break_time.assign(nb, -1.0);
@@ -223,7 +223,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
 
 void reset_bond_history(Model& m) {
   for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s, &m.plastic_work, &m.fracture_energy,
-                  &m.contact_damping_work, &m.friction_work, &m.f_damp}) {
+                  &m.contact_damping_work, &m.friction_work, &m.f_damp, &m.break_kinetic}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   m.len_prev = m.rest_length;
@@ -234,7 +234,7 @@ void reset_bond_history(Model& m) {
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
   std::fill(m.hoop_cut.begin(), m.hoop_cut.end(), 0);
   for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0, &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef,
-                  &m.hoop_fracture, &m.hoop_e_last}) {
+                  &m.hoop_fracture, &m.hoop_e_last, &m.hoop_break_kinetic}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   std::fill(m.cracking.begin(), m.cracking.end(), 0);

@@ -405,7 +405,7 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
 
   energy_.open(energy_path_, resume != nullptr);
   if (resume == nullptr)
-    energy_ << "time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,friction,"
+    energy_ << "time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,friction,break_kinetic,"
                "input,total,relative_error\n";
 
   if (resume == nullptr) fs::remove(probes_path_, ec);
@@ -508,7 +508,7 @@ void RunOutput::write_energy(const Solver& solver) {
   csv_number(energy_, solver.time());
   energy_ << "," << solver.step_index();
   for (double v : {e.kinetic, e.elastic, e.external_work, e.damping, e.plastic, e.fracture, e.contact_damping,
-                   e.friction, e.input(), e.total(), e.relative_error()}) {
+                   e.friction, e.break_kinetic, e.input(), e.total(), e.relative_error()}) {
     energy_ << ",";
     csv_number(energy_, v);
   }

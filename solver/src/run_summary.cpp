@@ -11,7 +11,7 @@ namespace hexdem::solver {
 std::vector<std::string> run_summary_columns(const std::vector<std::string>& body_names) {
   std::vector<std::string> cols{"time",     "step",     "kinetic", "elastic",         "external_work",
                                 "damping",  "plastic",  "fracture", "contact_damping", "friction",
-                                "input",    "total",    "relative_error", "broken_bonds", "fragments"};
+                                "break_kinetic", "input",    "total",    "relative_error", "broken_bonds", "fragments"};
   for (const std::string& b : body_names)
     for (const char* c : {"fragments", "debris", "mass", "vx", "vy", "kinetic"}) cols.push_back(b + "." + c);
   return cols;
@@ -66,6 +66,7 @@ RunSummary run_summary(const Solver& s) {
                 e.fracture,
                 e.contact_damping,
                 e.friction,
+                e.break_kinetic,
                 e.input(),
                 e.total(),
                 e.relative_error(),

@@ -149,7 +149,7 @@ bool Solver::check_energy(const StepSums& s, bool diagnostics) {
   const double err = std::abs(e.relative_error());
   if (err > case_.time.energy_limit || (err > case_.time.energy_warning && energy_warning_.empty())) {
     // The ledger terms that moved since the last checked step, largest first.
-    const std::array<std::pair<const char*, double>, 9> terms{{
+    const std::array<std::pair<const char*, double>, 10> terms{{
         {"kinetic", e.kinetic - last_checked_.kinetic},
         {"elastic", e.elastic - last_checked_.elastic},
         {"external_work", e.external_work - last_checked_.external_work},
@@ -158,9 +158,10 @@ bool Solver::check_energy(const StepSums& s, bool diagnostics) {
         {"fracture", e.fracture - last_checked_.fracture},
         {"contact_damping", e.contact_damping - last_checked_.contact_damping},
         {"friction", e.friction - last_checked_.friction},
+        {"break_kinetic", e.break_kinetic - last_checked_.break_kinetic},
         {"total", e.total() - last_checked_.total()},
     }};
-    std::array<std::size_t, 8> order{0, 1, 2, 3, 4, 5, 6, 7};
+    std::array<std::size_t, 9> order{0, 1, 2, 3, 4, 5, 6, 7, 8};
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return std::abs(terms[a].second) > std::abs(terms[b].second); });
     std::string moved;
@@ -170,7 +171,7 @@ bool Solver::check_energy(const StepSums& s, bool diagnostics) {
     const std::string what = "energy error " + fmt(100 * err, 3) + " % of max(input " + fmt(e.input()) +
                              " J, scale " + fmt(e.scale) + " J) at t = " + fmt(time_, 6) + " s; since t = " +
                              fmt(last_checked_time_, 6) + " s: " + moved + ", total " +
-                             (terms[8].second >= 0 ? "+" : "") + fmt(terms[8].second) + " J";
+                             (terms[9].second >= 0 ? "+" : "") + fmt(terms[9].second) + " J";
     if (err > case_.time.energy_limit)
       return fail(BlowUp::Kind::EnergyLimit, what + " (above [time] energy_limit = " + fmt(case_.time.energy_limit) + ")");
     energy_warning_ = what + " (above [time] energy_warning = " + fmt(case_.time.energy_warning) + ")";
@@ -948,6 +949,7 @@ bool Solver::advance(bool diagnostics, const std::function<void(const Solver&)>&
     energy_.fracture = d.fracture;
     energy_.contact_damping = d.contact_damping + contact_damping_work_;
     energy_.friction = d.friction + contact_friction_work_;
+    energy_.break_kinetic = d.break_kinetic;
     if (contacts_on_ || !case_.walls.empty()) energy_.elastic += contact_energy();
   }
   if (step_ == 0) {

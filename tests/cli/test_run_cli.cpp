@@ -83,7 +83,7 @@ TEST(RunCli, GoodCaseWritesSeriesEnergyAndProbes) {
   EXPECT_EQ(frames, 3);
   const std::string energy = slurp(d / "out" / "plate.energy.csv");
   EXPECT_EQ(energy.rfind("time,step,kinetic,elastic,external_work,damping,plastic,fracture,contact_damping,"
-                         "friction,input,total,relative_error\n", 0), 0u);
+                         "friction,break_kinetic,input,total,relative_error\n", 0), 0u);
   EXPECT_GE(count_lines(energy), 4);
   const std::string probes = slurp(d / "out" / "plate.probes.csv");
   EXPECT_NE(probes.find("top.velocity_y"), std::string::npos);

@@ -291,7 +291,7 @@ TEST(Restart, BadCheckpointsAreRefused) {
   expect_refused(good.substr(0, good.size() / 2), "checksum");
   std::string version = good;
   version[8] = 7;  // the format version follows the 8-byte magic
-  expect_refused(version, "checkpoint format version 7, this hexdem reads version 2");
+  expect_refused(version, "checkpoint format version 7, this hexdem reads version 3");
   std::string flipped = good;
   flipped[flipped.size() / 2] ^= 1;
   expect_refused(flipped, "damaged or truncated checkpoint");
@@ -337,7 +337,7 @@ TEST(Restart, AFailedCheckpointWriteLeavesThePreviousCheckpoint) {
   r = run_hexdem(d, "run " + c.string() + " -q --restart " + (d / "a" / "plate.chk").string());
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_EQ(count_lines(r.err), 1) << r.err;
-  EXPECT_NE(r.err.find("plate.energy.csv: its first 757 bytes are not the ones the checkpoint's run wrote"),
+  EXPECT_NE(r.err.find("plate.energy.csv: its first 783 bytes are not the ones the checkpoint's run wrote"),
             std::string::npos) << r.err;
   // ... and it still restarts (its own case, the output folder of its run copied back).
   r = run_hexdem(d, "run " + c.string() + " -o " + (d / "b").string() + " -q");

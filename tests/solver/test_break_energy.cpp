@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "hexdem/solver/case_toml.hpp"
@@ -92,6 +93,144 @@ void check_break(const std::string& angle) {
 
 TEST(BreakEnergy, ABreakReleasesExactlyItsBondsEnergyAtEveryLatticeAngle) {
   for (const char* angle : {"0.0", "10.0", "30.0"}) check_break(angle);
+}
+
+TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBondsEnergy) {
+  std::string text = kPlate;
+  text.replace(text.find("ANGLE"), 5, "10.0");
+  const Case c = parse_case(text, "plate.toml", ".");
+  Solver s(c, mesh_case(c));
+  Model m = s.model();
+  const double dt = s.dt();
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    const double x = m.x0[i] / 0.02, y = m.y0[i] / 0.02;
+    m.ux[i] = 1e-6 * (x * x + 0.5 * std::sin(3 * y));
+    m.uy[i] = 1e-6 * (x * y - 0.3 * std::cos(2 * x));
+  }
+  ASSERT_EQ(compute_internal_forces(m, dt), 0u);
+  std::size_t i = m.num_disks();
+  for (std::size_t k = 0; k < m.num_disks() && i == m.num_disks(); ++k)
+    if (m.initial_bonds[k] == 6 && std::abs(m.x0[k] - 0.01) < 0.003 && std::abs(m.y0[k] - 0.01) < 0.003) i = k;
+  ASSERT_LT(i, m.num_disks());
+  // Break five of its six bonds, one at a time; the last two breaks leave it without a fit.
+  int broken = 0;
+  for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && broken < 5; ++k, ++broken) {
+    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] + 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+    const bool stretched_now = m.f_n[b] > 0;
+    const double eps[3] = {m.eps_xx[i], m.eps_yy[i], m.eps_xy[i]};
+    const double before = elastic_energy(m);
+    m.newly_broken[b] = 2;
+    ASSERT_EQ(settle_broken_bonds(m, dt), 1u);
+    // A stretched bond releases all its springs held; one in compression leaves its overlap's
+    // energy to the contact that replaces it. Either way the model loses exactly the release.
+    if (stretched_now) EXPECT_NEAR(m.fracture_energy[b], stored, 1e-12 * stored) << "break " << broken;
+    EXPECT_NEAR(before - elastic_energy(m), m.fracture_energy[b], 1e-9 * std::max(stored, 1e-3 * before))
+        << "break " << broken;
+    EXPECT_GE(m.fracture_energy[b], 0.0);
+    EXPECT_LE(m.fracture_energy[b], stored * (1 + 1e-12));
+    EXPECT_EQ(m.eps_xx[i], eps[0]);
+    EXPECT_EQ(m.eps_yy[i], eps[1]);
+    EXPECT_EQ(m.eps_xy[i], eps[2]);
+  }
+  EXPECT_EQ(m.minv_xx[i], 0.0) << "one bond left: no fit";
+  EXPECT_EQ(m.minv_yy[i], 0.0);
+  // Frozen: a further displacement of its neighbours does not move it.
+  const double frozen = m.eps_xx[i];
+  for (std::size_t k = 0; k < m.num_disks(); ++k) m.ux[k] += 1e-7 * m.y0[k] / 0.02;
+  compute_internal_forces(m, dt);
+  EXPECT_EQ(m.eps_xx[i], frozen);
+}
+
+// The issue's reproducer, a steel disk at 50 m/s on a concrete plate with strengths, at
+// r = 1 mm: the integrator's share of the breaks halves with the step while the fracture
+// energy stays. The contact resolution is scaled with the step so that the contacts keep
+// their stiffness (the cap is m_eff (resolution / dt)^2).
+struct ImpactResult {
+  double fracture = 0, break_kinetic = 0, max_error = 0, min_bond = 0;
+};
+
+ImpactResult impact(double safety, bool softening) {
+  std::string text = R"(units = "mm"
+[case]
+name = "plate_impact"
+geometry = "plane-strain"
+thickness = 0.01
+[mesh]
+radius = 1.0e-3
+[[body]]
+name = "plate"
+material = 1
+  [[body.shape]]
+  type = "rectangle"
+  min = [-40.0, -20.0]
+  max = [40.0, 0.0]
+  boundary = { bottom = "base", right = "far", top = "face", left = "far" }
+[[body]]
+name = "disk"
+material = 2
+  [[body.shape]]
+  type = "circle"
+  center = [0.0, 6.0]
+  radius = 5.0
+  boundary = "skin"
+[[material]]
+id = 1
+name = "concrete"
+density = 2400.0
+E = 30e9
+nu = 0.2
+tensile_strength = 3e6
+compressive_strength = 30e6
+cohesion = 6e6
+friction_angle = 30.0
+)";
+  if (softening) text += "fracture_energy = 100.0\n";
+  text += R"([[material]]
+id = 2
+name = "steel"
+density = 7850.0
+E = 210e9
+nu = 0.3
+[[boundary]]
+set = "base"
+type = "fixed"
+[[initial_velocity]]
+body = "disk"
+velocity = [0.0, -50.0]
+[contact]
+damping = 0.5
+)";
+  text += "resolution = " + std::to_string(0.2 * safety / 0.8) + "\n[time]\nend = 80e-6\nsafety = " +
+          std::to_string(safety) + "\n";
+  const Case c = parse_case(text, "impact.toml", ".");
+  Solver s(c, mesh_case(c));
+  ImpactResult r;
+  for (std::int64_t n = 0; n <= s.total_steps(); ++n) {
+    if (!s.advance(true)) return r;
+    r.max_error = std::max(r.max_error, std::abs(s.energy().relative_error()));
+  }
+  r.fracture = s.energy().fracture;
+  r.break_kinetic = s.energy().break_kinetic;
+  for (double f : s.model().fracture_energy) r.min_bond = std::min(r.min_bond, f);
+  return r;
+}
+
+TEST(BreakEnergy, TheIntegratorsShareOfBreaksIsFirstOrderInTheStep) {
+  for (bool softening : {false, true}) {
+    const ImpactResult coarse = impact(0.8, softening), fine = impact(0.4, softening);
+    std::printf("%s: fracture %.4e / %.4e J, break_kinetic %+.3e / %+.3e J, max |Err| %.2e / %.2e (safety 0.8 / 0.4)\n",
+                softening ? "softening" : "brittle", coarse.fracture, fine.fracture, coarse.break_kinetic,
+                fine.break_kinetic, coarse.max_error, fine.max_error);
+    ASSERT_GT(coarse.fracture, 0.0);
+    EXPECT_GE(coarse.min_bond, 0.0);
+    EXPECT_GE(fine.min_bond, 0.0);
+    EXPECT_NEAR(fine.fracture, coarse.fracture, 0.1 * coarse.fracture) << "the fracture energy converges";
+    const double ratio = fine.break_kinetic / coarse.break_kinetic;
+    EXPECT_GT(ratio, 0.3) << "first order: about 1/2";
+    EXPECT_LT(ratio, 0.7) << "first order: about 1/2";
+    EXPECT_LT(std::abs(fine.break_kinetic), 0.05 * fine.fracture);
+  }
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ std::string bar_case(double angle, double nu, const std::string& geometry, doubl
 
 struct BarResult {
   bool finished = false;
-  double max_error = 0, fracture = 0, min_bond_fracture = 0, peak = 0;
+  double max_error = 0, fracture = 0, min_bond_fracture = 0, peak = 0, break_kinetic = 0;
   std::size_t cracked = 0;
 };
 
@@ -105,6 +105,7 @@ BarResult run_bar(const std::string& text) {
   }
   r.finished = true;
   r.fracture = s.energy().fracture;
+  r.break_kinetic = s.energy().break_kinetic;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
     r.min_bond_fracture = std::min(r.min_bond_fracture, m.fracture_energy[b]);
     r.cracked += (!m.bond_intact(b) || m.cracking[b]) ? 1 : 0;
@@ -127,8 +128,9 @@ TEST(Softening, ABarPulledApartDissipatesGFTimesItsSectionAtEveryLatticeAngle) {
   for (double angle : {0.0, 10.0, 20.0, 30.0}) {
     const BarResult r = run_bar(bar_case(angle, 0.2, "plane-stress", 0.5, 4e-4));
     ASSERT_TRUE(r.finished) << angle;
-    std::printf("angle %4.0f: fracture %.4e J (%.3f x G_F A), max |Err| %.2e, min per-bond %.2e J, cracked %zu\n",
-                angle, r.fracture, r.fracture / expected, r.max_error, r.min_bond_fracture, r.cracked);
+    std::printf("angle %4.0f: fracture %.4e J (%.3f x G_F A), break_kinetic %+.2e J, max |Err| %.2e, min per-bond "
+                "%.2e J, cracked %zu\n",
+                angle, r.fracture, r.fracture / expected, r.break_kinetic, r.max_error, r.min_bond_fracture, r.cracked);
     EXPECT_LE(r.max_error, 0.01) << angle;
     EXPECT_GT(r.fracture, 0.9 * expected) << angle;
     energies.push_back(r.fracture);
@@ -147,10 +149,11 @@ TEST(Softening, NegativeShearSpringsAreRefusedAsForTheBrittleLaw) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("shear springs that are not negative"), std::string::npos) << e.what();
   }
-  // With [time] allow_unstable the run goes ahead, and the run health stops it.
-  // (At a lattice angle of 0 and r = 1 mm the same bar happens to run; at 10 and 30 degrees
-  // and r = 0.5 mm it blows up within 300 steps.)
-  const Case u = parse_case(bar_case(30.0, 0.3, "plane-strain", 0.5, 4e-4) + "allow_unstable = true\n", "bar.toml", ".");
+  // With [time] allow_unstable the run goes ahead, and the run health stops it. (Measured with
+  // the strain of a disk without a fit frozen: at r = 1 mm the bar runs at 0-30 degrees but
+  // its energy error reaches 1.3 % at 10 degrees and its fracture energy is 1.1-1.8 G_F A; at
+  // r = 0.5 mm it runs at 0, 20 and 30 degrees and is stopped at 10.)
+  const Case u = parse_case(bar_case(10.0, 0.3, "plane-strain", 0.5, 4e-4) + "allow_unstable = true\n", "bar.toml", ".");
   Solver s(u, mesh_case(u));
   bool stopped = false;
   for (std::int64_t n = 0; n <= s.total_steps() && !stopped; ++n) stopped = !s.advance(true);

@@ -28,7 +28,8 @@ namespace hexdem::solver {
 
 /// Version of the checkpoint layout; a file of another version is refused. 2: the run state
 /// records how far `<case>.reactions.csv` got (run.reactions_bytes, run.reactions_hash).
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+/// 3: the kinetic half step of breaks (model.break_kinetic, model.hoop_break_kinetic).
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

@@ -136,6 +136,11 @@ struct Model {
   std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
   // Cumulative energies per bond [J], summed only when reported (deterministic).
   std::vector<double> plastic_work, fracture_energy, contact_damping_work, friction_work;
+  /// The leap-frog kinetic energy that the bond's break or damage steps moved [J], of either
+  /// sign: a change of the force at t_n by dF changes v(t-dt/2).v(t+dt/2)/2 by
+  /// (dt/2) v(t-dt/2).dF. It is not energy the bond stored (that is fracture_energy, >= 0);
+  /// it is O(dt) (docs/model.md, "Energy at a break").
+  std::vector<double> break_kinetic;
   /// 1 + FailureMode of a bond that the force pass found past its strength (it still acted
   /// intact in that pass), 0 otherwise; settle_broken_bonds breaks it and clears the flag.
   std::vector<std::uint8_t> newly_broken;
@@ -153,6 +158,7 @@ struct Model {
   std::vector<double> hoop_damage, hoop_kappa, hoop_e0, hoop_ef;  ///< [-]
   std::vector<double> hoop_e_last;         ///< the hoop driver s / M at the last force pass [-]
   std::vector<double> hoop_fracture;       ///< energy dissipated by hoop cracking [J]
+  std::vector<double> hoop_break_kinetic;  ///< the kinetic half step of hoop damage [J] (as break_kinetic)
   /// Spatially random strength ([random]): factor on every strength of a bond / a disk's
   /// hoop strength; empty: 1.
   std::vector<double> strength_scale, disk_strength_scale;
@@ -187,6 +193,7 @@ struct Model {
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
   std::vector<double> event_weights;    ///< settle_broken_bonds: each event's stored energy
+  std::vector<double> event_half;       ///< settle_broken_bonds: each event's own half step [J] and d(L) [m]
 
   [[nodiscard]] std::size_t num_disks() const { return x0.size(); }
   [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
@@ -241,6 +248,7 @@ double elastic_energy(const Model& m);
 /// contact dashpot and friction; deterministic.
 struct BondDissipation {
   double plastic = 0, fracture = 0, contact_damping = 0, friction = 0;
+  double break_kinetic = 0;  ///< the kinetic half step of breaks and damage steps (of either sign)
 };
 BondDissipation bond_dissipation(const Model& m);
 

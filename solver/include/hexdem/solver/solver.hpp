@@ -34,6 +34,10 @@ struct EnergyBalance {
   double fracture = 0;         ///< energy stored in bonds when they broke
   double contact_damping = 0;  ///< energy dissipated by contact dashpots
   double friction = 0;         ///< energy dissipated by contact friction
+  /// Leap-frog's kinetic half step of breaks and damage steps [J], of either sign and O(dt):
+  /// a force at t_n that a break changes by dF changes the kinetic energy at t_n by
+  /// (dt/2) v(t-dt/2).dF (docs/model.md, "Energy at a break").
+  double break_kinetic = 0;
   double initial = 0;          ///< kinetic + elastic energy at t = 0 (e.g. a projectile)
   /// The model's own energy scale [J]: the elastic energy of every body at a uniform strain
   /// of 1e-9. Errors are measured against max(|E_in|, scale), so a run with no input energy
@@ -43,7 +47,7 @@ struct EnergyBalance {
   /// dissipated energy.
   [[nodiscard]] double input() const { return initial + external_work; }
   [[nodiscard]] double total() const {
-    return kinetic + elastic + damping + plastic + fracture + contact_damping + friction;
+    return kinetic + elastic + damping + plastic + fracture + contact_damping + friction + break_kinetic;
   }
   /// Err = (E_in - E_t) / max(|E_in|, scale).
   [[nodiscard]] double relative_error() const {
