@@ -64,10 +64,17 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
 }
 
 Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), lattice_(lattice) {
+  auto clock = std::chrono::steady_clock::now();
+  const auto lap = [&clock](double& slot) {
+    const auto now = std::chrono::steady_clock::now();
+    slot = std::chrono::duration<double>(now - clock).count();
+    clock = now;
+  };
   check_symmetry_planes(case_, lattice_);
   setup_materials();
   model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;
+  lap(setup_times_.model);
   if (case_.random && model_.any_breakable) {
     // [random]: the strength field at the bond midpoints and, for hoop cracking, the disks.
     const RandomField& r = *case_.random;
@@ -80,14 +87,19 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
     if (!model_.hoop_damage.empty())
       model_.disk_strength_scale = lognormal_field(model_.x0, model_.y0, r.seed, r.correlation_length, r.strength_cov);
   }
+  lap(setup_times_.random_field);
   setup_boundaries();
   setup_loads();
   setup_reactions();
   setup_initial_velocities();
+  lap(setup_times_.sets);
   setup_contacts();
+  lap(setup_times_.contacts);
   choose_time_step();
+  lap(setup_times_.time_step);
   setup_contact_resolution();
   setup_energy_scale();
+  lap(setup_times_.energy_scale);
 }
 
 void Solver::setup_contact_resolution() {
@@ -740,6 +752,7 @@ double Solver::finite_omega2_max(int max_iterations) {
     for (double& x : v) x /= std::sqrt(norm);
     double beta_prev = 0, lambda_prev = 0;
     for (int it = 0; it < max_iterations; ++it) {
+      dt_info_.finite_iterations = it + 1;
       apply(v, w);
       double a = 0;
       for (std::size_t k = 0; k < w.size(); ++k) a += v[k] * w[k];

@@ -19,3 +19,15 @@ if(NOT HEXDEM_SANITIZE)
     LABELS "validation" TIMEOUT 120 FIXTURES_REQUIRED case_warhead_reduced
     ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
 endif()
+# The lattice study's driver (cases/warhead/lattice_study.py) on the reduced case at 0 and 30
+# degrees (the rim of the rotated disc moved until its clamped set selects disks): every
+# member must run and be analysed.
+if(NOT HEXDEM_SANITIZE)
+  add_test(NAME case_warhead_lattice_study_reduced
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/lattice_study.py
+            $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_study --reduced --speeds 100
+            --angles 0 30 --radii 1e-3 --threads 1
+            --json ${HEXDEM_TEST_WORK_DIR}/case_warhead_study/study.json)
+  set_tests_properties(case_warhead_lattice_study_reduced PROPERTIES
+    LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
+endif()

@@ -63,7 +63,18 @@ struct TimeStepInfo {
   double dt_bloch = 0;      ///< smallest Bloch critical step over the bodies [s]
   double dt_finite = 0;     ///< 2/omega_max of the finite model (power iteration) [s]
   double dt_eq24 = 0;       ///< the paper's Eq. 24, for comparison [s]
+  int finite_iterations = 0;  ///< Lanczos iterations of dt_finite
   bool user_dt = false;
+};
+
+/// Wall time of the solver's set-up by part [s] (printed by `hexdem bench`).
+struct SetupTimes {
+  double model = 0;         ///< materials, Bloch analysis, the model's arrays
+  double random_field = 0;  ///< [random] strengths
+  double sets = 0;          ///< boundaries, loads, reactions, initial velocities
+  double contacts = 0;      ///< contact detection set-up
+  double time_step = 0;     ///< the critical step of the finite model
+  double energy_scale = 0;  ///< contact resolution and the energy scale
 };
 
 /// Why Solver::advance stopped a run: a numerical blow-up (the state is no longer finite, the
@@ -102,6 +113,7 @@ public:
   [[nodiscard]] double time() const { return time_; }          ///< t_n during at_tn
   [[nodiscard]] std::int64_t step_index() const { return step_; }
   [[nodiscard]] const TimeStepInfo& time_step() const { return dt_info_; }
+  [[nodiscard]] const SetupTimes& setup_times() const { return setup_times_; }
   [[nodiscard]] double dt() const { return dt_info_.dt; }
   [[nodiscard]] const EnergyBalance& energy() const { return energy_; }
   [[nodiscard]] const BlowUp& blow_up() const { return blow_up_; }
@@ -220,6 +232,7 @@ private:
   std::vector<ReactionSet> reaction_sets_;
   std::vector<StepSums> block_sums_;
   TimeStepInfo dt_info_;
+  SetupTimes setup_times_;
   EnergyBalance energy_;
   BlowUp blow_up_;
   EnergyBalance last_checked_;  ///< the ledger at the last checked step that passed

@@ -1,0 +1,179 @@
+#!/usr/bin/python3
+"""Lattice-angle, resolution and seed study of the warhead case (docs/validation.md,
+"Fracture that does not depend on the lattice").
+
+    /usr/bin/python3 cases/warhead/lattice_study.py HEXDEM OUT_DIR [--speeds 100 50]
+        [--angles 0 10 20 30] [--radii 0.5e-3 0.35e-3] [--seeds 1] [--threads 2]
+        [--json FILE] [--reduced]
+
+Runs every member (speed x angle x radius x seed) with `hexdem run` and `--set` overrides of
+the shipped case files (case.toml at 100 m/s, case_50.toml at 50 m/s, case_25.toml at 25 m/s;
+with --reduced, case_ctest.toml at 100 m/s: r = 1 mm, 150 us, the ctest's size):
+`mesh.angle` (both bodies), `mesh.radius` and `random.seed`. The disc's rim is put at the first
+of 200, 200.2, ..., 201.4 mm at which `hexdem check` accepts the member, so that the clamped
+rim set selects disks of a rotated lattice (a set that selects none is refused); the rim used
+is in the JSON (`rim_mm`). Each member is analysed by
+analyse.py; the study prints one row per member and, per speed and radius, the mean and the
+largest deviation from the mean of the residual velocity and the cone half-angle, and, with
+several seeds, their spread over the seeds at each angle. Exit 0 when every member ran and
+was analysed, 1 otherwise (a member that failed is named with its reason).
+"""
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASES = {100: "case.toml", 50: "case_50.toml", 25: "case_25.toml"}
+REDUCED = {100: "case_ctest.toml"}
+
+
+def outline_for(case, overrides, work, hexdem):
+    """The case's outline with the disc's rim at the first of 200, 200.2, ..., 201.4 mm where
+    `hexdem check` accepts the case (a rotated lattice may have no disk centre within r of
+    the rim at 200 mm, and a set that selects no disk is refused)."""
+    with open(os.path.join(HERE, "outline.toml")) as f:
+        text = f.read()
+    if "max = [200, 0]" not in text:
+        sys.exit("lattice_study.py: outline.toml: the disc's rim 'max = [200, 0]' not found")
+    why = ""
+    for k in range(8):
+        rim = 200.0 + 0.2 * k
+        path = os.path.join(work, "outline.toml")
+        with open(path, "w") as f:
+            f.write(text.replace("max = [200, 0]", "max = [%g, 0]" % rim))
+        p = subprocess.run([hexdem, "check", case, "--set", "mesh.outline=%s" % path] + overrides,
+                           capture_output=True, text=True)
+        if p.returncode == 0:
+            return path, rim
+        why = p.stderr.strip().splitlines()[-1:] if p.stderr.strip() else "exit %d" % p.returncode
+        if "selects no disk" not in p.stderr:
+            break
+    return None, why
+
+
+def run_member(args, speed, angle, radius, seed):
+    tag = "v%d_a%g_r%g_s%d" % (speed, angle, radius * 1e3, seed)
+    work = os.path.join(args.out, tag)
+    os.makedirs(work, exist_ok=True)
+    case = os.path.join(HERE, (REDUCED if args.reduced else CASES)[speed])
+    overrides = ["--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius,
+                 "--set", "random.seed=%d" % seed]
+    outline, rim = outline_for(case, overrides, work, args.hexdem)
+    if outline is None:
+        return tag, None, "hexdem check refused every rim position: %s" % rim
+    cmd = [args.hexdem, "run", case, "--out", work, "--threads", str(args.threads), "-q",
+           "--set", "mesh.outline=%s" % outline] + overrides
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        return tag, None, "hexdem run exit %d: %s" % (p.returncode, p.stderr.strip().splitlines()[-1:])
+    pvd = [f for f in os.listdir(work) if f.endswith(".pvd")]
+    if len(pvd) != 1:
+        return tag, None, "no single .pvd in %s" % work
+    summary = os.path.join(work, "summary.json")
+    a = subprocess.run([sys.executable, os.path.join(HERE, "analyse.py"), os.path.join(work, pvd[0]),
+                        "--json", summary], capture_output=True, text=True)
+    if a.returncode != 0:
+        return tag, None, "analyse.py exit %d: %s" % (a.returncode, a.stderr.strip())
+    with open(summary) as f:
+        r = json.load(f)["runs"][0]
+    cone = r["cone"]
+    return tag, {
+        "speed": speed, "angle": angle, "radius": radius, "seed": seed,
+        "rim_mm": rim, "outcome": r["outcome"], "residual_velocity": r["residual_velocity_m_s"],
+        "max_depth_mm": 1e3 * r["max_penetration_depth_m"],
+        "cone_half_angle": cone["half_angle_deg"] if cone.get("formed") else None,
+        "broken_bonds": r["broken_bonds"],
+        "max_abs_error": r["energy"]["max_abs_relative_error"],
+    }, None
+
+
+def spread(values):
+    values = [v for v in values if v is not None]
+    if not values:
+        return None, None
+    mean = sum(values) / len(values)
+    return mean, max(abs(v - mean) for v in values)
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("hexdem")
+    parser.add_argument("out")
+    parser.add_argument("--speeds", type=int, nargs="+", default=[100, 50], choices=sorted(CASES))
+    parser.add_argument("--angles", type=float, nargs="+", default=[0, 10, 20, 30])
+    parser.add_argument("--radii", type=float, nargs="+", default=[0.5e-3, 0.35e-3])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1])
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--json")
+    parser.add_argument("--reduced", action="store_true", help="case_ctest.toml (100 m/s only)")
+    args = parser.parse_args(argv)
+    if args.reduced and args.speeds != [100]:
+        parser.error("--reduced has 100 m/s only (--speeds 100)")
+    os.makedirs(args.out, exist_ok=True)
+    members, failed = [], []
+    print("| v [m/s] | r [mm] | angle | seed | outcome | residual v [m/s] | max depth [mm] | "
+          "cone half-angle [deg] | broken bonds | max \\|Err\\| |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for speed in args.speeds:
+        for radius in args.radii:
+            for angle in args.angles:
+                for seed in args.seeds:
+                    tag, m, why = run_member(args, speed, angle, radius, seed)
+                    if m is None:
+                        failed.append((tag, why))
+                        print("| %s | failed: %s |" % (tag, why), flush=True)
+                        continue
+                    members.append(m)
+                    cone = "%.1f" % m["cone_half_angle"] if m["cone_half_angle"] is not None else "no cone"
+                    print("| %d | %g | %g | %d | %s | %+.1f | %.1f | %s | %d | %.1e |"
+                          % (speed, radius * 1e3, angle, seed, m["outcome"], m["residual_velocity"],
+                             m["max_depth_mm"], cone, m["broken_bonds"], m["max_abs_error"]), flush=True)
+    print()
+    print("| v [m/s] | r [mm] | outcomes | residual v: mean, largest deviation | "
+          "cone half-angle: mean, largest deviation (angles with a cone) |")
+    print("|---|---|---|---|---|")
+    groups = []
+    for speed in args.speeds:
+        for radius in args.radii:
+            g = [m for m in members if m["speed"] == speed and m["radius"] == radius]
+            if not g:
+                continue
+            rv = spread([m["residual_velocity"] for m in g])
+            ca = spread([m["cone_half_angle"] for m in g])
+            outcomes = sorted(set(m["outcome"] for m in g))
+            cones = sum(m["cone_half_angle"] is not None for m in g)
+            groups.append({"speed": speed, "radius": radius, "outcomes": outcomes,
+                           "residual_mean": rv[0], "residual_deviation": rv[1],
+                           "cone_mean": ca[0], "cone_deviation": ca[1], "cones": cones, "members": len(g)})
+            print("| %d | %g | %s | %+.1f, %.1f m/s | %s |"
+                  % (speed, radius * 1e3, ", ".join(outcomes), rv[0], rv[1],
+                     "%.1f, %.1f deg (%d of %d)" % (ca[0], ca[1], cones, len(g)) if ca[0] is not None
+                     else "no cone"))
+    if len(args.seeds) > 1:
+        print()
+        print("Spread over the seeds (largest minus smallest) at each angle:")
+        for speed in args.speeds:
+            for radius in args.radii:
+                for angle in args.angles:
+                    g = [m for m in members if (m["speed"], m["radius"], m["angle"]) == (speed, radius, angle)]
+                    if len(g) < 2:
+                        continue
+                    rv = [m["residual_velocity"] for m in g]
+                    ca = [m["cone_half_angle"] for m in g if m["cone_half_angle"] is not None]
+                    print("  %d m/s, r %g mm, %g deg: residual v %.1f m/s, cone %s" % (
+                        speed, radius * 1e3, angle, max(rv) - min(rv),
+                        "%.1f deg (%d of %d with a cone)" % (max(ca) - min(ca), len(ca), len(g)) if ca else "none"))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"members": members, "groups": groups, "failed": failed}, f, indent=1)
+    for tag, why in failed:
+        sys.stderr.write("lattice_study.py: %s: %s\n" % (tag, why))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
