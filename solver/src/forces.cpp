@@ -18,26 +18,36 @@
 namespace hexdem::solver {
 namespace {
 
-/// Pass A: least-squares strain of each disk over its intact bonds,
-/// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
-void disk_strain(Model& m, std::size_t i) {
+/// Least-squares symmetric gradient of the field (fx, fy) at disk i over its intact bonds,
+/// sym((sum_k (f_k - f_i) a_k^T) (sum_k a_k a_k^T)^-1), with the disk's current fit (M^-1):
+/// the strain from the displacements, or its rate from the velocities.
+std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vector<double>& fx,
+                                   const std::vector<double>& fy) {
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);
     const auto o = m.adj_other[k];
     if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
     const double ax = m.adj_ax[k], ay = m.adj_ay[k];
-    const double dux = m.ux[o] - m.ux[i], duy = m.uy[o] - m.uy[i];
+    const double dux = fx[o] - fx[i], duy = fy[o] - fy[i];
     gxx += dux * ax;
     gxy += dux * ay;
     gyx += duy * ax;
     gyy += duy * ay;
   }
   const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
-  m.eps_xx[i] = gxx * mxx + gxy * mxy;
-  m.eps_yy[i] = gyx * mxy + gyy * myy;
-  // On a mirror plane the strain is mirror-symmetric: no shear.
-  m.eps_xy[i] = m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy));
+  // On a mirror plane the field is mirror-symmetric: no shear.
+  return {gxx * mxx + gxy * mxy, gyx * mxy + gyy * myy,
+          m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
+}
+
+/// Pass A: least-squares strain of each disk over its intact bonds,
+/// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
+void disk_strain(Model& m, std::size_t i) {
+  const std::array<double, 3> e = fit_gradient(m, i, m.ux, m.uy);
+  m.eps_xx[i] = e[0];
+  m.eps_yy[i] = e[1];
+  m.eps_xy[i] = e[2];
   if (!m.eps_off_xx.empty()) {
     // Strain carried across changes of the fit (settle_broken_bonds): an affine offset.
     m.eps_xx[i] -= m.eps_off_xx[i];
@@ -697,26 +707,6 @@ BondDissipation bond_dissipation(const Model& m) {
 
 namespace {
 
-/// Strain rate of disk i from the velocities v(t - dt/2) with its current fit [1/s]
-/// (disk_strain applied to velocities; the offsets are constant).
-std::array<double, 3> disk_strain_rate(const Model& m, std::size_t i) {
-  double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
-  for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-    const auto o = m.adj_other[k];
-    if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
-    const double ax = m.adj_ax[k], ay = m.adj_ay[k];
-    const double dvx = m.vx[o] - m.vx[i], dvy = m.vy[o] - m.vy[i];
-    gxx += dvx * ax;
-    gxy += dvx * ay;
-    gyx += dvy * ax;
-    gyy += dvy * ay;
-  }
-  const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
-  return {gxx * mxx + gxy * mxy, gyx * mxy + gyy * myy,
-          m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
-}
-
 /// Half the work of bond b's own springs over the last step, (f_n d(delta) + f_s d(u_s)) / 2
 /// [J], with the increments from the velocities: x(t_n - dt) = x(t_n) - dt v(t - dt/2). This is
 /// the bond's part of the break's kinetic half step, (dt/2) v.dF_own (docs/model.md, "Energy
@@ -735,7 +725,7 @@ HalfStep own_half_step(const Model& m, std::size_t b, double dt, bool local) {
   if (!local) {
     d_us = dt * (-dvx * m.ny[b] + dvy * m.nx[b] - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
   } else if (m.strain_ok[i] && m.strain_ok[j]) {
-    const std::array<double, 3> ri = disk_strain_rate(m, i), rj = disk_strain_rate(m, j);
+    const std::array<double, 3> ri = fit_gradient(m, i, m.vx, m.vy), rj = fit_gradient(m, j, m.vx, m.vy);
     d_us = dt * (m.g_xx[b] * (ri[0] + rj[0]) + m.g_yy[b] * (ri[1] + rj[1]) + 2.0 * m.g_xy[b] * (ri[2] + rj[2]));
   }
   return {0.5 * (m.f_n[b] * d_delta + m.f_s[b] * d_us), d_delta};

@@ -46,6 +46,15 @@ friction_angle = 30.0
 end = 1e-6
 )";
 
+/// A smooth, non-affine displacement field (an affine one has no local-strain shear).
+void deform(Model& m) {
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    const double x = m.x0[i] / 0.02, y = m.y0[i] / 0.02;
+    m.ux[i] = 1e-6 * (x * x + 0.5 * std::sin(3 * y));
+    m.uy[i] = 1e-6 * (x * y - 0.3 * std::cos(2 * x));
+  }
+}
+
 void check_break(const std::string& angle) {
   std::string text = kPlate;
   text.replace(text.find("ANGLE"), 5, angle);
@@ -53,12 +62,7 @@ void check_break(const std::string& angle) {
   Solver s(c, mesh_case(c));
   Model m = s.model();  // a copy at rest: velocities 0, so no half-step term
   const double dt = s.dt();
-  // A smooth, non-affine displacement field (an affine one has no local-strain shear).
-  for (std::size_t i = 0; i < m.num_disks(); ++i) {
-    const double x = m.x0[i] / 0.02, y = m.y0[i] / 0.02;
-    m.ux[i] = 1e-6 * (x * x + 0.5 * std::sin(3 * y));
-    m.uy[i] = 1e-6 * (x * y - 0.3 * std::cos(2 * x));
-  }
+  deform(m);
   ASSERT_EQ(compute_internal_forces(m, dt), 0u);
   // An interior bond with two complete neighbourhoods.
   std::size_t b = m.num_bonds();
@@ -102,11 +106,7 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
   Solver s(c, mesh_case(c));
   Model m = s.model();
   const double dt = s.dt();
-  for (std::size_t i = 0; i < m.num_disks(); ++i) {
-    const double x = m.x0[i] / 0.02, y = m.y0[i] / 0.02;
-    m.ux[i] = 1e-6 * (x * x + 0.5 * std::sin(3 * y));
-    m.uy[i] = 1e-6 * (x * y - 0.3 * std::cos(2 * x));
-  }
+  deform(m);
   ASSERT_EQ(compute_internal_forces(m, dt), 0u);
   std::size_t i = m.num_disks();
   for (std::size_t k = 0; k < m.num_disks() && i == m.num_disks(); ++k)
