@@ -29,7 +29,8 @@ namespace hexdem::solver {
 /// Version of the checkpoint layout; a file of another version is refused. 2: the run state
 /// records how far `<case>.reactions.csv` got (run.reactions_bytes, run.reactions_hash).
 /// 3: the kinetic half step of breaks (model.break_kinetic, model.hoop_break_kinetic).
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+/// 4: the time-step record holds the Lanczos iteration count (dt_info.finite_iterations).
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {
