@@ -136,6 +136,7 @@ void visit_model(M& m, V& v) {
   v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
   v.rebuilt("event_weights", m.event_weights);  // work space of settle_broken_bonds
   v.rebuilt("event_half", m.event_half);  // work space of settle_broken_bonds
+  v.rebuilt("event_d_len", m.event_d_len);
 }
 
 }  // namespace

@@ -757,7 +757,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     if (m.newly_broken[b]) {
       const HalfStep h = own_half_step(m, b, dt, local);
       m.event_half.push_back(h.half);
-      m.event_half.push_back(h.d_len);
+      m.event_d_len.push_back(h.d_len);
     }
 
   std::array<std::size_t, 64> touched{};  // intact bonds whose shear depends on the two disks
@@ -765,7 +765,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   std::size_t ev = 0;
   for (std::size_t b = first; b < m.num_bonds(); ++b) {
     if (!m.newly_broken[b]) continue;
-    const double own_half = m.event_half[2 * ev], d_len = m.event_half[2 * ev + 1];
+    const double own_half = m.event_half[ev], d_len = m.event_d_len[ev];
     ++ev;
     const std::array<std::size_t, 2> disks{static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b])};
     // The potential part of the release: every energy term that the break changes, before
@@ -837,8 +837,8 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
         // release). A frozen strain is bounded below in every term: the shear springs are
         // squares, and the hoop term is cut to the hoop stress's square (restore_hoop); the
         // full term's coupling lambda eps_tt tr with a frozen tr was not (a detached disk
-        // under a rotated warhead's nose reached -0.44 J/rad). Such a disk gives no stress to
-        // the failure criteria (softening_bond).
+        // under a rotated warhead's nose reached -0.44 J/rad). The failure criteria read the
+        // frozen strain as the disk's stress (softening_bond).
         update_strain_matrix(m, i);
         disk_strain(m, i);
         m.eps_off_xx[i] += m.eps_xx[i] - exx;
@@ -872,19 +872,20 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     // The contact that replaces a bond broken in compression keeps the overlap's energy, in
     // the same form: its spring's energy less its half step, E_c - (dE_c/dL) dL / 2 with
     // dE_c/dL = -k_c overlap (its shear starts at 0).
-    const double overlap = m.radius[disks[0]] + m.radius[disks[1]] - m.len_prev[b];
-    const double kept = starts_cracking ? 0.0
-                        : own_energy() + (overlap > 0 ? 0.5 * contact_normal_stiffness(m, b) * overlap * d_len : 0.0);
-    const double own_release = starts_cracking ? 0.0 : std::max(own - own_half - kept, 0.0);
-    m.fracture_energy[b] += own_release;
-    coupled += before - energy() - own_release;
+    // A bond that starts to crack keeps its springs and releases nothing.
+    double own_release = 0.0;
     if (!starts_cracking) {
+      const double overlap = m.radius[disks[0]] + m.radius[disks[1]] - m.len_prev[b];
+      const double kept = own_energy() + (overlap > 0 ? 0.5 * contact_normal_stiffness(m, b) * overlap * d_len : 0.0);
+      own_release = std::max(own - own_half - kept, 0.0);
       // The new contact's dashpot force acts from t_n: its half step before t_n is dashpot
       // work (f_v, the dashpot's part of f_n, opposes the approach: >= 0).
       const double half_v = 0.5 * m.f_damp[b] * d_len;
       m.contact_damping_work[b] += half_v;
       dashpot += half_v;
     }
+    m.fracture_energy[b] += own_release;
+    coupled += before - energy() - own_release;
     // The event's weight: the energy its springs stored (kept in order, one per event).
     m.event_weights.push_back(own);
     weights += own;
@@ -915,6 +916,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   }
   m.event_weights.clear();  // keep their capacity: no allocation once grown
   m.event_half.clear();
+  m.event_d_len.clear();
   return breaks;
 }
 

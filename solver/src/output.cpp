@@ -383,7 +383,6 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   status_path_ = (fs::path(dir_) / (name_ + ".status")).string();
   write_status("running");
   // The CSVs of a restart continue from the checkpoint; those of a new run start afresh.
-  const std::ios::openmode mode = resume != nullptr ? std::ios::app : std::ios::trunc;
   if (resume != nullptr) {
     for (const io::PvdEntry& e : resume->frames)
       if (!fs::exists(fs::path(dir_) / e.file))

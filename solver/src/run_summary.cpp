@@ -9,9 +9,10 @@
 namespace hexdem::solver {
 
 std::vector<std::string> run_summary_columns(const std::vector<std::string>& body_names) {
-  std::vector<std::string> cols{"time",     "step",     "kinetic", "elastic",         "external_work",
-                                "damping",  "plastic",  "fracture", "contact_damping", "friction",
-                                "break_kinetic", "input",    "total",    "relative_error", "broken_bonds", "fragments"};
+  std::vector<std::string> cols{"time",    "step",          "kinetic",      "elastic",        "external_work",
+                                "damping", "plastic",       "fracture",     "contact_damping", "friction",
+                                "break_kinetic", "input",   "total",        "relative_error", "broken_bonds",
+                                "fragments"};
   for (const std::string& b : body_names)
     for (const char* c : {"fragments", "debris", "mass", "vx", "vy", "kinetic"}) cols.push_back(b + "." + c);
   return cols;

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -173,7 +174,9 @@ bool Solver::check_energy(const StepSums& s, bool diagnostics) {
         {"break_kinetic", e.break_kinetic - last_checked_.break_kinetic},
         {"total", e.total() - last_checked_.total()},
     }};
-    std::array<std::size_t, 9> order{0, 1, 2, 3, 4, 5, 6, 7, 8};
+    constexpr std::size_t kTotal = terms.size() - 1;  // the terms above it are ranked
+    std::array<std::size_t, kTotal> order{};
+    std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return std::abs(terms[a].second) > std::abs(terms[b].second); });
     std::string moved;
@@ -183,7 +186,7 @@ bool Solver::check_energy(const StepSums& s, bool diagnostics) {
     const std::string what = "energy error " + fmt(100 * err, 3) + " % of max(input " + fmt(e.input()) +
                              " J, scale " + fmt(e.scale) + " J) at t = " + fmt(time_, 6) + " s; since t = " +
                              fmt(last_checked_time_, 6) + " s: " + moved + ", total " +
-                             (terms[9].second >= 0 ? "+" : "") + fmt(terms[9].second) + " J";
+                             (terms[kTotal].second >= 0 ? "+" : "") + fmt(terms[kTotal].second) + " J";
     if (err > case_.time.energy_limit)
       return fail(BlowUp::Kind::EnergyLimit, what + " (above [time] energy_limit = " + fmt(case_.time.energy_limit) + ")");
     energy_warning_ = what + " (above [time] energy_warning = " + fmt(case_.time.energy_warning) + ")";

@@ -124,7 +124,9 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
     ASSERT_EQ(settle_broken_bonds(m, dt), 1u);
     // A stretched bond releases all its springs held; one in compression leaves its overlap's
     // energy to the contact that replaces it. Either way the model loses exactly the release.
-    if (stretched_now) EXPECT_NEAR(m.fracture_energy[b], stored, 1e-12 * stored) << "break " << broken;
+    if (stretched_now) {
+      EXPECT_NEAR(m.fracture_energy[b], stored, 1e-12 * stored) << "break " << broken;
+    }
     EXPECT_NEAR(before - elastic_energy(m), m.fracture_energy[b], 1e-9 * std::max(stored, 1e-3 * before))
         << "break " << broken;
     EXPECT_GE(m.fracture_energy[b], 0.0);

@@ -193,7 +193,8 @@ struct Model {
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
   std::vector<double> event_weights;    ///< settle_broken_bonds: each event's stored energy
-  std::vector<double> event_half;       ///< settle_broken_bonds: each event's own half step [J] and d(L) [m]
+  std::vector<double> event_half;       ///< settle_broken_bonds: each event's own half step [J]
+  std::vector<double> event_d_len;      ///< settle_broken_bonds: each event's length increment [m]
 
   [[nodiscard]] std::size_t num_disks() const { return x0.size(); }
   [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
@@ -254,9 +255,11 @@ BondDissipation bond_dissipation(const Model& m);
 
 /// After a force pass that found bonds past their strength (newly_broken): breaks them (each
 /// becomes a contact, state II), recomputes the local-strain matrices and strains of their
-/// disks and the forces of the whole model, and books on each broken bond what the break
-/// released: the drop of the leap-frog energy at t_n, V(with) - V(without) +
-/// (dt/2) sum v(t-dt/2).(F(with) - F(without)) (docs/model.md, "Energy at a break").
+/// disks and the forces of the whole model, and books the drop of the leap-frog energy at t_n,
+/// V(with) - V(without) + (dt/2) sum v(t-dt/2).(F(with) - F(without)): each bond's own
+/// release (the bilinear form of its springs over the last two steps, >= 0) as its
+/// fracture_energy, the new contact's first dashpot half step as contact damping, and the
+/// rest, the integrator's share, as break_kinetic (docs/model.md, "Energy at a break").
 /// Returns the number of bonds that broke.
 std::size_t settle_broken_bonds(Model& m, double dt);
 

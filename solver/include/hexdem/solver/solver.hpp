@@ -61,7 +61,7 @@ struct TimeStepInfo {
   double dt = 0;            ///< the step used [s]
   double dt_critical = 0;   ///< min(dt_bloch, dt_finite) [s]
   double dt_bloch = 0;      ///< smallest Bloch critical step over the bodies [s]
-  double dt_finite = 0;     ///< 2/omega_max of the finite model (power iteration) [s]
+  double dt_finite = 0;     ///< 2/omega_max of the finite model (Lanczos) [s]
   double dt_eq24 = 0;       ///< the paper's Eq. 24, for comparison [s]
   int finite_iterations = 0;  ///< Lanczos iterations of dt_finite
   bool user_dt = false;
