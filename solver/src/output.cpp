@@ -121,6 +121,7 @@ void CsvFile::open(const std::string& path, bool append) {
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | (append ? O_APPEND : O_TRUNC) | O_CLOEXEC, 0666);
   if (fd_ < 0) throw InputError(path + ": cannot write (" + errno_reason() + ")");
   written_ = 0;
+  max_row_ = 0;
   if (append) {
     const off_t end = ::lseek(fd_, 0, SEEK_END);
     if (end < 0) throw InputError(path + ": cannot write (" + errno_reason() + ")");
@@ -130,21 +131,50 @@ void CsvFile::open(const std::string& path, bool append) {
 
 void CsvFile::flush() {
   // Linux copies a write() page by page and stops at a page boundary when the process is
-  // killed, so one large write can leave part of a row. Each write() here stays inside one
-  // 4 KiB page of the file: a kill can then cut a row only between the two writes of a row
-  // that straddles a page boundary.
-  constexpr std::uint64_t kPage = 4096;
+  // killed, so a kill can cut the file only at the end of a write() or at a 4 KiB boundary of
+  // the file. Each write() here stays inside one page, and the rows are laid out so that none
+  // straddles a boundary: a row after which the page has less room left than the longest
+  // possible row of this file is preceded by spaces (leading blanks of its first number, which ParaView,
+  // numpy and Python skip) until it ends exactly at the page's end. A kill then leaves whole rows.
+  // The exceptions (docs/file-format.md): the first line of the file is never padded (it is
+  // the header), and a file whose rows can be longer than half a page (more than about 110
+  // columns) is written unpadded.
+  const std::size_t last_newline = buffer_.rfind('\n');
+  if (last_newline == std::string::npos) return;  // only whole rows reach the file
+  const std::size_t whole = last_newline + 1;
+  if (max_row_ == 0) {
+    // Every field is a %.10g number (at most 17 characters) or the step (at most 20), with
+    // its separator; the first row seen (the header, or a row after a restart) gives the
+    // column count.
+    const std::string_view first_row(buffer_.data(), buffer_.find('\n'));
+    const auto columns = static_cast<std::size_t>(std::count(first_row.begin(), first_row.end(), ',')) + 1;
+    max_row_ = columns * 18 + 3 + 1;
+  }
+  const bool padded = max_row_ <= kPage / 2;
+  layout_.clear();
+  std::uint64_t pos = written_;
+  for (std::size_t begin = 0; begin < whole;) {
+    const std::size_t stop = buffer_.find('\n', begin) + 1;
+    const std::size_t length = stop - begin;
+    const std::uint64_t room = kPage - pos % kPage;
+    std::uint64_t pad = 0;
+    if (padded && pos != 0 && length <= room && room - length < max_row_) pad = room - length;
+    layout_.append(static_cast<std::size_t>(pad), ' ');
+    layout_.append(buffer_, begin, length);
+    pos += pad + length;
+    begin = stop;
+  }
+  buffer_.erase(0, whole);
   std::size_t done = 0;
-  while (done < buffer_.size()) {
+  while (done < layout_.size()) {
     const std::size_t room = static_cast<std::size_t>(kPage - written_ % kPage);
-    const std::size_t count = std::min(room, buffer_.size() - done);
-    const ssize_t n = ::write(fd_, buffer_.data() + done, count);
+    const std::size_t count = std::min(room, layout_.size() - done);
+    const ssize_t n = ::write(fd_, layout_.data() + done, count);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) throw InputError(path_ + ": write failed (" + (n < 0 ? errno_reason() : "no progress") + ")");
     done += static_cast<std::size_t>(n);
     written_ += static_cast<std::uint64_t>(n);
   }
-  buffer_.clear();
 }
 
 void CsvFile::close() {

@@ -21,9 +21,9 @@
 namespace hexdem::solver {
 
 /// A CSV file written in whole rows: rows collect in memory and reach the file at flush(),
-/// in writes that never cross a 4 KiB page of the file, so that a killed run leaves whole
-/// rows (except in the rare case that the kill falls between the two writes of a row that
-/// straddles a page boundary). Every write is checked:
+/// in writes that never cross a 4 KiB page of the file, laid out so that no row straddles a
+/// page boundary (a row that ends a page is preceded by blanks), so that a killed run leaves
+/// whole rows (rows_fit_pages() says when a file is too wide for that). Every write is checked:
 /// a failure throws InputError naming the file and the reason (a full disk is not success).
 class CsvFile {
 public:
@@ -49,10 +49,17 @@ public:
   void flush();
   /// Flushes and closes, checking the close.
   void close();
+  /// The layout unit: Linux stops a killed process's write() only at a page boundary.
+  static constexpr std::uint64_t kPage = 4096;
+  /// Whether rows are laid out to never straddle a page (false for files whose rows can be
+  /// longer than half a page); known after the first flush.
+  [[nodiscard]] bool rows_fit_pages() const { return max_row_ != 0 && max_row_ <= kPage / 2; }
 
 private:
   std::string path_;
   std::string buffer_;
+  std::string layout_;        ///< the rows of one flush with their padding (reused)
+  std::size_t max_row_ = 0;   ///< bytes of the longest possible row, from the column count
   std::uint64_t written_ = 0;  ///< bytes in the file
   int fd_ = -1;
 };
