@@ -40,6 +40,7 @@ template <class M, class V>
 void visit_model(M& m, V& v) {
   v.rebuilt("geometry", m.geometry);
   v.rebuilt("shear_model", m.shear_model);
+  v.rebuilt("uses_strains", m.uses_strains);
   v.state("thickness", m.thickness);
   // disks
   v.state("x0", m.x0); v.state("y0", m.y0);
@@ -147,6 +148,7 @@ struct CheckpointAccess {
   static void visit_solver(S& s, V& v) {
     v.rebuilt("case", s.case_);
     v.rebuilt("lattice", s.lattice_);
+    v.rebuilt("lattice_hash", s.lattice_hash_);
     v.model("model", s.model_);
     v.rebuilt("body_materials", s.body_materials_);
     v.rebuilt("bloch", s.bloch_);
@@ -490,8 +492,7 @@ std::uint64_t case_hash(const Case& c) {
   return fnv1a(id.data(), id.size());
 }
 
-std::uint64_t lattice_hash(const Solver& s) {
-  const meshing::Lattice& l = s.lattice();
+std::uint64_t lattice_hash(const meshing::Lattice& l) {
   std::uint64_t h = fnv1a(nullptr, 0);
   auto add = [&h](const auto& v) { h = fnv1a(v.data(), v.size() * sizeof(v[0]), h); };
   add(l.x);
@@ -513,7 +514,7 @@ void write_checkpoint(const std::string& path, const Solver& s, const RunState& 
   auto put = [&out](auto v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
   put(kCheckpointVersion);
   put(case_hash(s.case_data()));
-  put(lattice_hash(s));
+  put(s.lattice_hash());
   put(static_cast<std::uint64_t>(w.names_.size()));
   out += w.buf_;
   put(fnv1a(out.data(), out.size()));
@@ -575,7 +576,7 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
   if (chash != case_hash(s.case_data()))
     throw InputError(path + ": checkpoint of another case (the effective case differs from " + s.case_data().source +
                      " with these --set values; restart with the case and overrides it was written with)");
-  if (lhash != lattice_hash(s))
+  if (lhash != s.lattice_hash())
     throw InputError(path + ": checkpoint of another lattice than " + s.case_data().source + " meshes to");
 
   std::map<std::string, Record> records;
@@ -605,7 +606,7 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
   load_run(r, run);
   // Every per-disk and per-bond vector must match the lattice the case meshes to.
   const Model& m = s.model();
-  if (m.ux.size() != m.num_disks() || m.f_n.size() != m.num_bonds() || m.x0.size() != s.lattice().num_disks())
+  if (m.ux.size() != m.num_disks() || m.f_n.size() != m.num_bonds() || m.x0.size() != s.model().num_disks())
     r.fail("disk or bond counts differ from the lattice");
   CheckpointAccess::rebuild_broad_phase(s, path);
 }

@@ -220,7 +220,7 @@ void j2_return_mapping(Model& m, std::size_t i) {
   // up a block impact). Edge disks, and disks that lose a bond, keep their plastic strain.
   // A disk one radius off a mirror plane counts its spring to the plane (the bond to its
   // mirror image) as a bond.
-  int intact = (m.wall_kx[i] != 0 || m.wall_ky[i] != 0) ? 1 : 0;
+  int intact = (m.has_mirror_springs() && (m.wall_kx[i] != 0 || m.wall_ky[i] != 0)) ? 1 : 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k)
     intact += m.bond_intact(static_cast<std::size_t>(m.adj_bond[k])) ? 1 : 0;
   if (intact == 6) {
@@ -303,7 +303,7 @@ double intact_bond_energy(const Model& m, std::size_t b) {
   }
   double e = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
   if (m.k_s[b] != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
-  if (m.f_yield[b] > 0) {
+  if (m.yields(b)) {
     const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
     if (hn > 0) e += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
     if (m.k_s[b] > 0) {
@@ -501,7 +501,7 @@ void compute_bond_forces(Model& m, double dt) {
       softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
       continue;
     }
-    if (m.f_yield[b] > 0) {
+    if (m.yields(static_cast<std::size_t>(b))) {
       // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
       laws::BilinearState sn{m.f_n[b], m.alpha_n[b]};
       const laws::BilinearKinematic normal{m.k_n[b], m.kh_n[b], m.f_yield[b]};
@@ -528,7 +528,7 @@ void compute_bond_forces(Model& m, double dt) {
         m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
     }
     m.len_prev[b] = len;
-    if (m.failure_law[b] >= 0) {
+    if (m.any_breakable && m.failure_law[b] >= 0) {
       // Eqs. 17, 19, 20: strain rate of the bond from its stretch over the last step.
       const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
       // Strengths of the bond's section, with the rate factors only where the rate is above
@@ -591,6 +591,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
 /// through the strains of i and of its neighbours ("stress divergence"); hoop: -A sigma_tt.
 void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+  const bool mirror = m.has_mirror_springs();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     double fx = 0, fy = 0, tq = 0;
@@ -632,8 +633,12 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
       if (m.any_j2) sigma_tt -= 2 * m.hoop_mu[i] * m.eps_p_33[i];
       fx -= m.cell_area[i] * sigma_tt;
     }
-    m.fx[i] = fx - m.wall_kx[i] * m.ux[i];
-    m.fy[i] = fy - m.wall_ky[i] * m.uy[i];
+    if (mirror) {
+      fx -= m.wall_kx[i] * m.ux[i];
+      fy -= m.wall_ky[i] * m.uy[i];
+    }
+    m.fx[i] = fx;
+    m.fy[i] = fy;
     m.torque[i] = tq;
   }
 }
@@ -662,10 +667,12 @@ double elastic_energy(const Model& m) {
         return contact_bond_energy(m, b);
       },
       m.scratch);
-  e += deterministic_sum(
-      m.num_disks(),
-      [&](std::size_t i) { return 0.5 * (m.wall_kx[i] * m.ux[i] * m.ux[i] + m.wall_ky[i] * m.uy[i] * m.uy[i]); },
-      m.scratch);
+  if (m.has_mirror_springs()) {
+    e += deterministic_sum(
+        m.num_disks(),
+        [&](std::size_t i) { return 0.5 * (m.wall_kx[i] * m.ux[i] * m.ux[i] + m.wall_ky[i] * m.uy[i] * m.uy[i]); },
+        m.scratch);
+  }
   if (m.geometry == Geometry::Axisymmetric) {
     e += deterministic_sum(
         m.num_disks(),
@@ -686,13 +693,14 @@ double elastic_energy(const Model& m) {
 BondDissipation bond_dissipation(const Model& m) {
   BondDissipation d;
   const std::size_t nb = m.num_bonds();
-  d.plastic = deterministic_sum(nb, [&](std::size_t b) { return m.plastic_work[b]; }, m.scratch);
+  if (!m.plastic_work.empty()) d.plastic = deterministic_sum(nb, [&](std::size_t b) { return m.plastic_work[b]; }, m.scratch);
   if (m.any_j2) {
     // J2 disks: the work done on eps_p (bonds above, out-of-plane term here) less what the
     // back stress holds (booked as stored energy in elastic_energy).
     d.plastic += deterministic_sum(
         m.num_disks(), [&](std::size_t i) { return m.disk_plastic_work[i] - j2_hardening_energy(m, i); }, m.scratch);
   }
+  if (!m.any_breakable) return d;  // the failure arrays exist only for breakable models
   d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.fracture_energy[b]; }, m.scratch);
   if (!m.hoop_fracture.empty())
     d.fracture += deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_fracture[i]; }, m.scratch);
@@ -786,7 +794,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       double e = own_energy();
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t c = touched[k];
-        if (local && m.f_yield[c] == 0 && m.k_s[c] != 0) e += 0.5 * shear_factor(m, c) * m.k_s[c] * m.u_s[c] * m.u_s[c];
+        if (local && !m.yields(c) && m.k_s[c] != 0) e += 0.5 * shear_factor(m, c) * m.k_s[c] * m.u_s[c] * m.u_s[c];
       }
       for (std::size_t i : disks) {
         if (hoop) e += hoop_energy(m, i);
@@ -806,7 +814,8 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       if (!m.damage.empty()) m.damage[b] = 1.0;
       // The bond becomes a contact that starts now: no shear history, the normal force of
       // its overlap (a bond that breaks in compression keeps pushing).
-      m.f_n[b] = m.f_s[b] = m.f_damp[b] = m.alpha_n[b] = m.alpha_s[b] = 0.0;
+      m.f_n[b] = m.f_s[b] = m.f_damp[b] = 0.0;
+      if (!m.alpha_n.empty()) m.alpha_n[b] = m.alpha_s[b] = 0.0;
       m.u_s[b] = 0.0;
       broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
     }
@@ -852,7 +861,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       for (std::size_t k = 0; k < count && local; ++k) {
         const std::size_t c = touched[k];
         m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
-        if (m.f_yield[c] == 0) m.f_s[c] = shear_factor(m, c) * m.k_s[c] * m.u_s[c];
+        if (!m.yields(c)) m.f_s[c] = shear_factor(m, c) * m.k_s[c] * m.u_s[c];
       }
       if (starts_cracking && local) {
         m.u_s[b] = local_shear(m, b);
@@ -935,14 +944,21 @@ Stress disk_stress(const Model& m, std::size_t i) {
     sxy += fn * nx * ny + fs * 0.5 * (nx * sy + ny * sx);
   }
   // The bond to the mirror image (symmetry planes): tension -k u.N along N.
-  sxx -= m.wall_kx[i] * m.ux[i] * m.wall_sx[i];
-  syy -= m.wall_ky[i] * m.uy[i] * m.wall_sy[i];
+  if (m.has_mirror_springs()) {
+    sxx -= m.wall_kx[i] * m.ux[i] * m.wall_sx[i];
+    syy -= m.wall_ky[i] * m.uy[i] * m.wall_sy[i];
+  }
   const double scale = m.radius[i] / (m.cell_area[i] * m.weight[i]);
   // Surface loads act on the disk at their own lever arms.
   const double ext = 1.0 / (m.cell_area[i] * m.weight[i]);
-  st.xx = sxx * scale + m.ext_mxx[i] * ext;
-  st.yy = syy * scale + m.ext_myy[i] * ext;
-  st.xy = sxy * scale + m.ext_mxy[i] * ext;
+  st.xx = sxx * scale;
+  st.yy = syy * scale;
+  st.xy = sxy * scale;
+  if (!m.ext_mxx.empty()) {  // allocated when the case has surface loads
+    st.xx += m.ext_mxx[i] * ext;
+    st.yy += m.ext_myy[i] * ext;
+    st.xy += m.ext_mxy[i] * ext;
+  }
   st.zz = m.nu_zz[i] * (st.xx + st.yy);
   if (m.geometry == Geometry::Axisymmetric) {
     const HoopStress h = hoop_stress(m, i);

@@ -28,10 +28,13 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.kind = lat.kind;
   m.body = lat.body;
   m.material = lat.material;
+  // Arrays of the features a case uses only (docs/benchmarks.md, "Memory"): the surface
+  // loads' lever arms and the mirror springs are allocated by the Solver when the case has
+  // them, the local-strain arrays below when some term needs the disks' strains, and the
+  // bonds' plasticity and failure arrays when a material yields or breaks.
   for (auto* v : {&m.ux, &m.uy, &m.vx, &m.vy, &m.theta, &m.omega, &m.fx, &m.fy, &m.torque,
-                  &m.fx_ext, &m.fy_ext, &m.ext_mxx, &m.ext_myy, &m.ext_mxy, &m.mass, &m.inertia, &m.weight, &m.minv_xx, &m.minv_xy,
-                  &m.minv_yy, &m.eps_xx, &m.eps_yy, &m.eps_xy, &m.w_xx, &m.w_xy, &m.w_yx, &m.w_yy,
-                  &m.hoop_lambda, &m.hoop_mu, &m.nu_zz, &m.vx_old, &m.vy_old, &m.omega_old, &m.wall_kx, &m.wall_ky, &m.wall_sx, &m.wall_sy}) {
+                  &m.fx_ext, &m.fy_ext, &m.mass, &m.inertia, &m.weight,
+                  &m.hoop_lambda, &m.hoop_mu, &m.nu_zz, &m.vx_old, &m.vy_old, &m.omega_old}) {
     v->assign(n, 0.0);
   }
   m.constraint.assign(n, 0);
@@ -78,17 +81,24 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.bi = lat.bond_i;
   m.bj = lat.bond_j;
   m.bond_class = lat.bond_class;
-  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.u_s,
-                  &m.g_xx, &m.g_yy, &m.g_xy}) {
+  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.len_prev}) {
     v->assign(nb, 0.0);
   }
-  for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.len_prev, &m.section, &m.mu,
-                  &m.plastic_work, &m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic}) {
-    v->assign(nb, 0.0);
+  bool plastic_springs = false, breakable = false;
+  for (const BodyMaterial& bm : materials) {
+    plastic_springs = plastic_springs || (bm.material->plastic() && !bm.j2);
+    breakable = breakable || bm.material->breakable;
   }
-  m.failure_law.assign(nb, -1);
-  m.newly_broken.assign(nb, 0);
-  m.f_damp.assign(nb, 0.0);
+  if (plastic_springs)
+    for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.plastic_work}) v->assign(nb, 0.0);
+  if (breakable) {
+    for (auto* v : {&m.section, &m.mu, &m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic,
+                    &m.f_damp})
+      v->assign(nb, 0.0);
+    m.failure_law.assign(nb, -1);
+    m.newly_broken.assign(nb, 0);
+    m.break_time.assign(nb, -1.0);
+  }
   for (const BodyMaterial& bm : materials) {
     laws::MohrCoulombFailure law;
     if (bm.material->breakable) {
@@ -116,6 +126,17 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     }
     m.softening.push_back(sp);
   }
+  // The disks' strains: for the local-strain shear springs, the hoop term, J2 disks and the
+  // softening criteria; a rotation-model plane run without softening needs none of them.
+  m.uses_strains = shear_model == ShearModel::LocalStrain || axisym || m.any_j2 || m.any_softening;
+  if (m.uses_strains) {
+    for (auto* v : {&m.minv_xx, &m.minv_xy, &m.minv_yy, &m.eps_xx, &m.eps_yy, &m.eps_xy, &m.w_xx, &m.w_xy, &m.w_yx,
+                    &m.w_yy})
+      v->assign(n, 0.0);
+    for (auto* v : {&m.u_s, &m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
+  } else if (shear_model == ShearModel::Rotation && breakable) {
+    m.u_s.assign(nb, 0.0);  // a broken bond's contact keeps its tangential history there
+  }
   if (m.any_softening) {
     for (auto* v : {&m.damage, &m.kappa, &m.delta0, &m.delta_f}) v->assign(nb, 0.0);
     m.cracking.assign(nb, 0);
@@ -123,7 +144,6 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
       for (auto* v : {&m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_fracture, &m.hoop_e_last, &m.hoop_break_kinetic}) v->assign(n, 0.0);
   }
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
-  m.break_time.assign(nb, -1.0);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
     m.ax[b] = m.x0[j] - m.x0[i];
@@ -131,10 +151,12 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.rest_length[b] = std::hypot(m.ax[b], m.ay[b]);
     m.nx[b] = m.ax[b] / m.rest_length[b];
     m.ny[b] = m.ay[b] / m.rest_length[b];
-    const double sx = -m.ny[b], sy = m.nx[b], half = 0.5 * m.rest_length[b];
-    m.g_xx[b] = half * sx * m.nx[b];
-    m.g_yy[b] = half * sy * m.ny[b];
-    m.g_xy[b] = half * 0.5 * (sx * m.ny[b] + sy * m.nx[b]);
+    if (m.uses_strains) {
+      const double sx = -m.ny[b], sy = m.nx[b], half = 0.5 * m.rest_length[b];
+      m.g_xx[b] = half * sx * m.nx[b];
+      m.g_yy[b] = half * sy * m.ny[b];
+      m.g_xy[b] = half * 0.5 * (sx * m.ny[b] + sy * m.nx[b]);
+    }
     const SpringConstants& K = materials.at(static_cast<std::size_t>(m.body[i])).springs;
     // A bond along a neat edge (two semi-disks) has half a bond's area in the region: half
     // its stiffness, so that the lattice energy under a homogeneous strain is the
@@ -156,8 +178,11 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.len_prev[b] = m.rest_length[b];
     // Strengths and yield forces act on the bond's section 2r w (Eq. 19, physics.md 7).
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
-    m.section[b] = 2.0 * m.radius[i] * w;
-    m.mu[b] = bm.material->friction;
+    const double section = 2.0 * m.radius[i] * w;
+    if (breakable) {
+      m.section[b] = section;
+      m.mu[b] = bm.material->friction;
+    }
     if (bm.material->breakable) {
       m.failure_law[b] = m.body[i];
       m.any_breakable = true;
@@ -165,7 +190,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     if (bm.material->plastic() && !bm.j2) {
       // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
       const double ratio = bm.material->tangent_modulus / bm.material->E;
-      m.f_yield[b] = bm.material->yield_stress * m.section[b];
+      m.f_yield[b] = bm.material->yield_stress * section;
       m.kh_n[b] = m.k_n[b] * ratio;
       m.kh_s[b] = m.k_s[b] * ratio;
       m.any_plastic = true;
@@ -180,8 +205,10 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.adj_bond.assign(2 * nb, 0);
   m.adj_other.assign(2 * nb, 0);
   m.adj_sign.assign(2 * nb, 0);
-  m.adj_ax.assign(2 * nb, 0.0);
-  m.adj_ay.assign(2 * nb, 0.0);
+  if (m.uses_strains) {
+    m.adj_ax.assign(2 * nb, 0.0);
+    m.adj_ay.assign(2 * nb, 0.0);
+  }
   std::vector<std::int64_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = m.bi[b], j = m.bj[b];
@@ -192,10 +219,12 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     m.adj_bond[pj] = static_cast<std::int32_t>(b);
     m.adj_other[pj] = i;
     m.adj_sign[pj] = -1;
-    m.adj_ax[pi] = m.ax[b];
-    m.adj_ay[pi] = m.ay[b];
-    m.adj_ax[pj] = -m.ax[b];
-    m.adj_ay[pj] = -m.ay[b];
+    if (m.uses_strains) {
+      m.adj_ax[pi] = m.ax[b];
+      m.adj_ay[pi] = m.ay[b];
+      m.adj_ax[pj] = -m.ax[b];
+      m.adj_ay[pj] = -m.ay[b];
+    }
   }
   if (m.any_breakable) {
     for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy})
@@ -208,7 +237,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   // Disks with a local strain of their own: eliminate those whose fit over the remaining
   // ones is singular until none is left (a chain of lone disks goes in a few rounds).
   m.strain_ok.assign(n, 1);
-  for (bool changed = true; changed;) {
+  for (bool changed = m.uses_strains; changed;) {
     update_strain_matrices(m);
     changed = false;
     for (std::size_t i = 0; i < n; ++i) {
@@ -247,6 +276,7 @@ void reset_bond_history(Model& m) {
 }
 
 void update_strain_matrix(Model& m, std::size_t i) {
+  if (!m.uses_strains) return;
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);

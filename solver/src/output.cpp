@@ -84,10 +84,9 @@ bool is_frame_array(const std::string& name) {
 /// `body_names` and `boundary_sets` (the point array of each set, in set order) and one UInt8
 /// point array per boundary set, 1 for its members (docs/file-format.md). Filled on demand
 /// from the lattice's compressed set rows: no per-frame copies.
-void add_bodies_and_sets(const meshing::Lattice& lattice, io::LineGrid& g) {
+void add_bodies_and_sets(const meshing::Lattice& lattice, std::size_t n, io::LineGrid& g) {
   if (!lattice.body_names.empty()) g.field_data.push_back({"body_names", {}, {}, lattice.body_names});
   std::vector<std::string> set_arrays;
-  const std::size_t n = lattice.num_disks();
   for (std::size_t s = 0; s < lattice.num_sets(); ++s) {
     const std::string& name = lattice.set_names[s];
     set_arrays.push_back(is_frame_array(name) ? "set_" + name : name);
@@ -311,7 +310,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
                               [cc](std::size_t k) { return cc->f_n[k]; }));
   g.cell_data.push_back(cells("shear_force", io::ScalarType::Float64, [&m](std::size_t b) { return m.f_s[b]; },
                               [cc](std::size_t k) { return cc->f_s[k]; }));
-  g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.break_time[b]; },
+  g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.break_time.empty() ? -1.0 : m.break_time[b]; },
                               [](std::size_t) { return -1.0; }));
   if (m.any_softening)
     g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.damage[b]; },
@@ -323,7 +322,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   g.field_data.push_back({"geometry", {}, geometry_name(m.geometry), {}});
   g.field_data.push_back({"thickness", {m.thickness}, {}, {}});
   if (solver.p_max() > 0) g.field_data.push_back({"p_max", {solver.p_max()}, {}, {}});
-  add_bodies_and_sets(solver.lattice(), g);
+  add_bodies_and_sets(solver.lattice(), m.num_disks(), g);
   return g;
 }
 
@@ -640,9 +639,10 @@ int run_case(const Case& c, const RunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
   if (options.threads > 0) omp_set_num_threads(options.threads);
   meshing::GeneratorReport mesh_report;
-  const meshing::Lattice lattice = mesh_case(c, &mesh_report);
+  meshing::Lattice lattice = mesh_case(c, &mesh_report);
+  const std::size_t num_disks = lattice.num_disks(), num_bonds = lattice.num_bonds();
   const auto wall_mesh = std::chrono::steady_clock::now();
-  Solver solver(c, lattice);
+  Solver solver(c, std::move(lattice));
   const auto wall_setup = std::chrono::steady_clock::now();
   double output_seconds = 0;
   const TimeStepInfo& ts = solver.time_step();
@@ -693,8 +693,8 @@ int run_case(const Case& c, const RunOptions& options) {
   if (!options.quiet) {
     std::printf("hexdem run: %s (%s, %s shear model)\n", c.source.c_str(), geometry_name(c.geometry),
                 shear_model_name(c.shear_model));
-    std::printf("  disks %zu, bonds %zu, bodies %zu\n", lattice.num_disks(), lattice.num_bonds(),
-                lattice.body_names.size());
+    std::printf("  disks %zu, bonds %zu, bodies %zu\n", num_disks, num_bonds,
+                solver.lattice().body_names.size());
     std::printf("  time step %.6g s (%s; critical %.6g s: Bloch %.6g s, finite model %.6g s; Eq. 24 %.6g s)\n",
                 dt, ts.user_dt ? "given" : "safety x critical", ts.dt_critical, ts.dt_bloch, ts.dt_finite,
                 ts.dt_eq24);

@@ -18,6 +18,7 @@
 #include "hexdem/laws/contact.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/solver/boundary_checks.hpp"
+#include "hexdem/solver/checkpoint.hpp"
 #include "hexdem/solver/random_field.hpp"
 
 namespace hexdem::solver {
@@ -64,7 +65,7 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
   return meshing::generate_lattice(c.outline, go, report);
 }
 
-Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), lattice_(lattice) {
+Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std::move(lattice)) {
   auto clock = std::chrono::steady_clock::now();
   const auto lap = [&clock](double& slot) {
     const auto now = std::chrono::steady_clock::now();
@@ -75,6 +76,13 @@ Solver::Solver(const Case& c, const meshing::Lattice& lattice) : case_(c), latti
   setup_materials();
   model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;
+  // From here on the model holds the disks and bonds: keep the lattice's names and sets only.
+  lattice_hash_ = hexdem::solver::lattice_hash(lattice_);
+  for (auto* v : {&lattice_.x, &lattice_.y, &lattice_.radius, &lattice_.cell_area, &lattice_.cell_cx, &lattice_.cell_cy,
+                  &lattice_.bond_b})
+    std::vector<double>().swap(*v);
+  for (auto* v : {&lattice_.body, &lattice_.material, &lattice_.bond_i, &lattice_.bond_j}) std::vector<std::int32_t>().swap(*v);
+  for (auto* v : {&lattice_.kind, &lattice_.bond_class, &lattice_.bond_on_edge}) std::vector<std::uint8_t>().swap(*v);
   lap(setup_times_.model);
   if (case_.random && model_.any_breakable) {
     // [random]: the strength field at the bond midpoints and, for hoop cracking, the disks.
@@ -548,6 +556,8 @@ void Solver::setup_mirror_springs(const BoundaryCondition& bc, int s) {
     double w = case_.thickness;
     if (case_.geometry == Geometry::Axisymmetric) w = c == 0 ? model_.x0[i] + normal * lattice_.set_distance[e] : model_.x0[i];
     const double k = 2.0 * (class1 ? K.kn1 : K.kn2) * w;
+    if (!model_.has_mirror_springs())  // allocated for the cases that have mirror springs
+      for (auto* v : {&model_.wall_kx, &model_.wall_ky, &model_.wall_sx, &model_.wall_sy}) v->assign(model_.num_disks(), 0.0);
     (c == 0 ? model_.wall_kx : model_.wall_ky)[i] = k;
     (c == 0 ? model_.wall_sx : model_.wall_sy)[i] = normal > 0 ? 1.0 : -1.0;
   }
@@ -600,6 +610,9 @@ void Solver::setup_loads() {
   }
   for (std::size_t i = 0; i < loaded.size(); ++i)
     if (loaded[i]) loaded_disks_.push_back(static_cast<std::int32_t>(i));
+  // The loads' lever arms (disk_stress), for the cases that have loads.
+  if (!loaded_disks_.empty())
+    for (auto* v : {&model_.ext_mxx, &model_.ext_myy, &model_.ext_mxy}) v->assign(model_.num_disks(), 0.0);
 }
 
 void Solver::setup_reactions() {
@@ -622,7 +635,7 @@ void Solver::setup_reactions() {
         if (held_by_set(lattice_, e, model_.radius[i])) held[static_cast<std::size_t>(e - first)] |= bits;
         // A mirror plane's springs to the disks one radius off it (setup_mirror_springs)
         // are part of the condition: their force -k u is the plane's on the body.
-        const double k = bc.component == 0 ? model_.wall_kx[i] : model_.wall_ky[i];
+        const double k = !model_.has_mirror_springs() ? 0.0 : bc.component == 0 ? model_.wall_kx[i] : model_.wall_ky[i];
         if (bc.kind == BoundaryCondition::Kind::Symmetry && k != 0 &&
             std::abs(lattice_.set_distance[e] - model_.radius[i]) <= 1e-6 * model_.radius[i])
           spring[static_cast<std::size_t>(e - first)] |= static_cast<std::uint8_t>(1 << bc.component);
@@ -711,13 +724,21 @@ double Solver::finite_omega2_max(int max_iterations) {
   const std::size_t dofs = spins ? 3 : 2;
   // Called at set-up, on the initial state: displacements and velocities are saved and the
   // bonds' history is reset after every probe (the kernel must act as the linear operator).
-  const auto ux = m.ux, uy = m.uy, th = m.theta, vx = m.vx, vy = m.vy, om = m.omega;
-  std::vector<double> inv_sqrt_m(n * dofs, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    inv_sqrt_m[dofs * i] = (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
-    inv_sqrt_m[dofs * i + 1] = (m.constraint[i] & kFixY) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
-    if (spins) inv_sqrt_m[dofs * i + 2] = (m.constraint[i] & kFixRotation) ? 0.0 : 1.0 / std::sqrt(m.inertia[i]);
-  }
+  // At set-up the displacements are zero (then only the velocities are kept); the inverse
+  // square roots of the masses are computed where needed, not stored (set-up memory).
+  const auto is_zero = [](const std::vector<double>& a) {
+    return std::all_of(a.begin(), a.end(), [](double x) { return x == 0.0; });
+  };
+  const bool at_rest = is_zero(m.ux) && is_zero(m.uy) && is_zero(m.theta);
+  std::vector<double> ux, uy, th;
+  if (!at_rest) ux = m.ux, uy = m.uy, th = m.theta;
+  const auto vx = m.vx, vy = m.vy, om = m.omega;
+  const auto inv_sqrt_m_of = [&m, spins, dofs](std::size_t k) {
+    const std::size_t i = k / dofs, c = k % dofs;
+    if (c == 0) return (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
+    if (c == 1) return (m.constraint[i] & kFixY) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
+    return (spins && !(m.constraint[i] & kFixRotation)) ? 1.0 / std::sqrt(m.inertia[i]) : 0.0;
+  };
   double r_min = std::numeric_limits<double>::infinity();
   for (double r : m.radius) r_min = std::min(r_min, r);
   // y = A v, through displacements small enough (1e-6 r) for the kernel to be linear.
@@ -725,20 +746,20 @@ double Solver::finite_omega2_max(int max_iterations) {
     double umax = 0;
     for (std::size_t k = 0; k < v.size(); ++k) {
       const double lever = (spins && k % 3 == 2) ? m.radius[k / 3] : 1.0;
-      umax = std::max(umax, std::abs(v[k] * inv_sqrt_m[k]) * lever);
+      umax = std::max(umax, std::abs(v[k] * inv_sqrt_m_of(k)) * lever);
     }
     const double eps = umax > 0 ? 1e-6 * r_min / umax : 1.0;
     for (std::size_t i = 0; i < n; ++i) {
-      m.ux[i] = m.vx[i] = eps * v[dofs * i] * inv_sqrt_m[dofs * i];
-      m.uy[i] = m.vy[i] = eps * v[dofs * i + 1] * inv_sqrt_m[dofs * i + 1];
-      m.theta[i] = m.omega[i] = spins ? eps * v[dofs * i + 2] * inv_sqrt_m[dofs * i + 2] : 0.0;
+      m.ux[i] = m.vx[i] = eps * v[dofs * i] * inv_sqrt_m_of(dofs * i);
+      m.uy[i] = m.vy[i] = eps * v[dofs * i + 1] * inv_sqrt_m_of(dofs * i + 1);
+      m.theta[i] = m.omega[i] = spins ? eps * v[dofs * i + 2] * inv_sqrt_m_of(dofs * i + 2) : 0.0;
     }
     reset_bond_history(m);  // every spring starts from zero: its increment is the probe
     compute_internal_forces(m, 1.0);
     for (std::size_t i = 0; i < n; ++i) {
-      y[dofs * i] = -m.fx[i] / eps * inv_sqrt_m[dofs * i];
-      y[dofs * i + 1] = -m.fy[i] / eps * inv_sqrt_m[dofs * i + 1];
-      if (spins) y[dofs * i + 2] = -m.torque[i] / eps * inv_sqrt_m[dofs * i + 2];
+      y[dofs * i] = -m.fx[i] / eps * inv_sqrt_m_of(dofs * i);
+      y[dofs * i + 1] = -m.fy[i] / eps * inv_sqrt_m_of(dofs * i + 1);
+      if (spins) y[dofs * i + 2] = -m.torque[i] / eps * inv_sqrt_m_of(dofs * i + 2);
     }
   };
   std::vector<double> v(n * dofs), v_prev(n * dofs, 0.0), w(n * dofs);
@@ -746,7 +767,7 @@ double Solver::finite_omega2_max(int max_iterations) {
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   double norm = 0;
   for (std::size_t k = 0; k < v.size(); ++k) {
-    v[k] = inv_sqrt_m[k] > 0 ? uni(rng) : 0.0;
+    v[k] = inv_sqrt_m_of(k) > 0 ? uni(rng) : 0.0;
     norm += v[k] * v[k];
   }
   std::vector<double> alpha, beta;
@@ -783,7 +804,12 @@ double Solver::finite_omega2_max(int max_iterations) {
       beta_prev = b;
     }
   }
-  m.ux = ux; m.uy = uy; m.theta = th; m.vx = vx; m.vy = vy; m.omega = om;
+  if (at_rest) {
+    for (auto* a : {&m.ux, &m.uy, &m.theta}) std::fill(a->begin(), a->end(), 0.0);
+  } else {
+    m.ux = ux; m.uy = uy; m.theta = th;
+  }
+  m.vx = vx; m.vy = vy; m.omega = om;
   reset_bond_history(m);
   return lambda;
 }

@@ -55,7 +55,7 @@ std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 146959
 std::uint64_t case_hash(const Case& c);
 /// Hash of the solver's lattice and model layout: reference centres, radii, bodies,
 /// materials, bonds and masses.
-std::uint64_t lattice_hash(const Solver& s);
+std::uint64_t lattice_hash(const meshing::Lattice& lattice);
 
 /// Writes the checkpoint of `s` and `run` to `path` atomically. Throws std::runtime_error
 /// naming the path if it cannot write.

@@ -88,6 +88,9 @@ struct Model {
   /// raises it, and the lattice became indefinite (measured: the warhead's steel in free
   /// flight at a lattice angle of 30 degrees blew up at step 190).
   std::vector<std::uint8_t> strain_ok;
+  /// Some term needs the disks' strains (local-strain shear, hoop, J2, softening): the
+  /// strain arrays (minv, eps, w, u_s, g, adj_ax/ay) exist only then.
+  bool uses_strains = false;
   std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
   /// Breakable models: the strain carried across changes of a disk's fit, eps = fit(u) -
   /// eps_off (settle_broken_bonds) [-]; empty otherwise.
@@ -202,6 +205,10 @@ struct Model {
   /// Intact and not cracking: the bond enters its disks' strain fits.
   [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracking[b]); }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
+  /// Bond b has bilinear hardening springs (Eq. 16); the arrays exist only if some do.
+  [[nodiscard]] bool yields(std::size_t b) const { return !f_yield.empty() && f_yield[b] > 0; }
+  /// Some disk has a spring to a mirror plane (wall_* exist only then).
+  [[nodiscard]] bool has_mirror_springs() const { return !wall_kx.empty(); }
 };
 
 /// Per-body material choice and spring constants, ready for Model construction.

@@ -94,7 +94,10 @@ public:
   /// velocities, checks each material's stability (Bloch analysis; an unstable shear model is
   /// refused with InputError naming the material, the condition and the remedy) and chooses
   /// the time step (a user dt above the critical step is refused unless allow_unstable).
-  Solver(const Case& c, const meshing::Lattice& lattice);
+  /// The lattice is taken by value (move it in: no copy); once the model is built, the
+  /// solver keeps only its names, boundary sets and fingerprint (lattice_hash()), not a second
+  /// copy of the disks and bonds.
+  Solver(const Case& c, meshing::Lattice lattice);
 
   /// One step from t_n to t_{n+1}: forces at t_n, velocities to t_{n+1/2}, then (if given)
   /// `at_tn(*this)` with the state at t_n complete (positions u_n, mid-step velocities, bond
@@ -109,7 +112,11 @@ public:
   [[nodiscard]] const Model& model() const { return model_; }
   [[nodiscard]] Model& model() { return model_; }
   [[nodiscard]] const Case& case_data() const { return case_; }
+  /// The lattice's body names and boundary sets; its disk and bond arrays are released after
+  /// set-up (the model holds them).
   [[nodiscard]] const meshing::Lattice& lattice() const { return lattice_; }
+  /// Fingerprint of the lattice the model was built from (disks, bonds, cells), for restarts.
+  [[nodiscard]] std::uint64_t lattice_hash() const { return lattice_hash_; }
   [[nodiscard]] double time() const { return time_; }          ///< t_n during at_tn
   [[nodiscard]] std::int64_t step_index() const { return step_; }
   [[nodiscard]] const TimeStepInfo& time_step() const { return dt_info_; }
@@ -221,6 +228,7 @@ private:
 
   Case case_;
   meshing::Lattice lattice_;
+  std::uint64_t lattice_hash_ = 0;
   Model model_;
   std::vector<BodyMaterial> body_materials_;
   std::vector<BlochResult> bloch_;
