@@ -7,7 +7,9 @@
 // forces are bit-identical whatever the number of OpenMP threads.
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cmath>
+#include <limits>
 
 #include "hexdem/solver/model.hpp"
 
@@ -365,6 +367,30 @@ inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f
   m.newly_broken[b] = delta_f > delta ? kStartsCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
 }
 
+/// No tensile strength to check (a closing bond does not start to crack).
+constexpr double kNoTension = std::numeric_limits<double>::infinity();
+
+/// Whether the continuum criteria of softening_bond can fire at the static strengths (the
+/// rate factors only raise them): Rankine s1 > f_t and Mohr-Coulomb on (max(s1, s3),
+/// min(s2, s3)), with s1, s2 bracketed by one square root instead of the principal values'
+/// hypot (the pass's most expensive call). False only where the exact test is certain to
+/// find nothing: the bracket is wider than hypot's rounding by far (1e-12), so the bonds near
+/// a criterion take the exact path and the results do not change by one bit.
+inline bool near_a_criterion(double sxx, double syy, double sxy, double s3, double f_t,
+                             const laws::StressMohrCoulomb& mc, double scale) {
+  const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+  const double r2 = d * d + sxy * sxy;
+  if (!(r2 > 1e-280) || !(r2 < 1e280)) return true;  // under- or overflow: the exact test decides
+  const double r = std::sqrt(r2) * (1 + 1e-12);       // >= hypot(d, sxy)
+  const double s1 = c + r, s2 = c - r;
+  if (s1 > f_t) return true;
+  const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
+  if (s_min <= -mc.f_c * scale) return true;
+  const double lhs = 0.5 * (s_max - s_min), rhs = mc.c * scale * mc.cos_phi - 0.5 * (s_max + s_min) * mc.sin_phi;
+  const double slack = 1e-12 * (std::abs(s_max) + std::abs(s_min) + std::abs(mc.c * scale));
+  return lhs >= rhs - slack;
+}
+
 /// Pass B for a bond of a softening material (docs/model.md, "Fracture energy and
 /// softening"); the shear measure u_s is already updated (rotation model: accumulated).
 /// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression fully) and
@@ -409,10 +435,17 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     if (m.damage[b] >= 1.0) m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
     return;
   }
-  // Eq. 20: the rate factors at the bond's strain rate; the random field's factor.
+  // Eq. 20: the rate factors at the bond's strain rate; the random field's factor. The
+  // factors are >= 1 and only raise the strengths: each criterion is checked at the static
+  // strengths first, and the factors (two logarithms) are computed only when it fails there.
   const laws::MohrCoulombFailure& law = m.failure_laws[l];
   const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
-  const laws::RateFactors rf = edot > 1.0 ? law.rate_factors(edot) : laws::RateFactors{};
+  laws::RateFactors rf;
+  bool rf_known = !(edot > 1.0);
+  const auto rate_factors = [&]() -> const laws::RateFactors& {
+    if (!rf_known) rf = law.rate_factors(edot), rf_known = true;
+    return rf;
+  };
   const double scale = m.strength_factor(b);
   // The continuum stress is taken from the local strain of disks with a full neighbourhood
   // (six bonds in the initial lattice): at an edge the least-squares strain of a disk with
@@ -424,7 +457,9 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const bool full_i = m.strain_ok[i] && m.initial_bonds[i] == 6, full_j = m.strain_ok[j] && m.initial_bonds[j] == 6;
   if (!full_i && !full_j) {
     const double sec = m.section[b] * scale;
-    const laws::BondStrength st = bond_strength(m, l, rf, sec);
+    if (laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec)) == laws::FailureMode::None)
+      return;  // holds at the static strengths, so at the dynamic ones
+    const laws::BondStrength st = bond_strength(m, l, rate_factors(), sec);
     const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], st);
     if (mode == laws::FailureMode::Tension && delta > 0) {
       // Cracking starts as for the continuum criterion, with the bond as the crack normal.
@@ -442,20 +477,25 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double ett = axisym ? wi * hoop_strain(m, i) + wj * hoop_strain(m, j) : 0.0;
   const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
   const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
-  const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
-  const double f_t = law.f_t * rf.tension * scale;
-  if (p.s1 > f_t && delta > 0) {
-    const laws::Principal2D d = laws::principal_2d(sxx, syy, sxy);
-    const double cosine = std::abs(m.nx[b] * d.n1x + m.ny[b] * d.n1y);
-    start_cracking(m, b, delta, laws::LinearSoftening::crack_opening(sp.G_F, f_t) * cosine);
-    return;
-  }
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
   const double s3 = m.geometry == Geometry::PlaneStress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
+  if (!near_a_criterion(sxx, syy, sxy, s3, delta > 0 ? law.f_t * scale : kNoTension, sp.mc, scale)) return;
+  const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
+  if (delta > 0 && p.s1 > law.f_t * scale) {
+    const double f_t = law.f_t * rate_factors().tension * scale;
+    if (p.s1 > f_t) {
+      const laws::Principal2D d = laws::principal_2d(sxx, syy, sxy);
+      const double cosine = std::abs(m.nx[b] * d.n1x + m.ny[b] * d.n1y);
+      start_cracking(m, b, delta, laws::LinearSoftening::crack_opening(sp.G_F, f_t) * cosine);
+      return;
+    }
+  }
+  const double s_max = std::max(p.s1, s3), s_min = std::min(p.s2, s3);
+  if (sp.mc.mode(s_max, s_min, scale) == 0) return;  // holds at the static strengths
   laws::StressMohrCoulomb mc = sp.mc;
-  mc.c *= rf.cohesion;
+  mc.c *= rate_factors().cohesion;
   mc.f_c *= rf.compression;
-  const int mode = mc.mode(std::max(p.s1, s3), std::min(p.s2, s3), scale);
+  const int mode = mc.mode(s_max, s_min, scale);
   if (mode != 0) m.newly_broken[b] = static_cast<std::uint8_t>(1 + mode);
 }
 
@@ -467,10 +507,9 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
 /// bonds of J2 disks stay elastic: their plasticity acts through the disks' strains);
 /// breakable bonds are checked against Eqs. 17, 19, 20 and, once broken (state II), act as
 /// contacts: compression only, Coulomb friction, a dashpot at a fraction of critical damping.
-void compute_bond_forces(Model& m, double dt) {
+template <bool Rotation, bool Plastic, bool Breakable, bool Softening, bool J2>
+void bond_forces(Model& m, double dt) {
   const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
-  const bool rotation = m.shear_model == ShearModel::Rotation;
-  const bool softening = m.any_softening;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
@@ -480,14 +519,17 @@ void compute_bond_forces(Model& m, double dt) {
     const double nx = dx / len, ny = dy / len;
     m.nx[b] = nx;
     m.ny[b] = ny;
-    const double sx = -ny, sy = nx;
-    if (!m.bond_intact(static_cast<std::size_t>(b))) {
-      broken_bond_contact(m, static_cast<std::size_t>(b), len, nx, ny, dt, dt);
-      continue;
+    if constexpr (Breakable) {
+      if (!m.bond_intact(static_cast<std::size_t>(b))) {
+        broken_bond_contact(m, static_cast<std::size_t>(b), len, nx, ny, dt, dt);
+        continue;
+      }
     }
-    const double du_n = len - m.len_prev[b];
+    // Eq. 2: the shear increment from the relative velocity and the spins (rotation model),
+    // or u_s from the disks' strains (local-strain model).
     double du_s = 0.0;
-    if (rotation) {
+    if constexpr (Rotation) {
+      const double sx = -ny, sy = nx;
       du_s = dt * ((m.vx[j] - m.vx[i]) * sx + (m.vy[j] - m.vy[i]) * sy -
                    (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
     } else {
@@ -495,13 +537,19 @@ void compute_bond_forces(Model& m, double dt) {
       du_s = u_s - m.u_s[b];
       m.u_s[b] = u_s;
     }
-    if (softening && m.failure_law[b] >= 0 && m.softening[static_cast<std::size_t>(m.failure_law[b])].G_F > 0) {
-      // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
-      if (rotation) m.u_s[b] += du_s;
-      softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
-      continue;
+    double du_n = 0.0;  // the stretch over the last step (hardening, softening, strain rate)
+    if constexpr (Plastic || Breakable) du_n = len - m.len_prev[b];
+    if constexpr (Softening) {
+      if (m.failure_law[b] >= 0 && m.softening[static_cast<std::size_t>(m.failure_law[b])].G_F > 0) {
+        // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
+        if constexpr (Rotation) m.u_s[b] += du_s;
+        softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
+        continue;
+      }
     }
-    if (m.yields(static_cast<std::size_t>(b))) {
+    bool hardening = false;
+    if constexpr (Plastic) hardening = m.f_yield[b] > 0;
+    if (hardening) {
       // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
       laws::BilinearState sn{m.f_n[b], m.alpha_n[b]};
       const laws::BilinearKinematic normal{m.k_n[b], m.kh_n[b], m.f_yield[b]};
@@ -520,30 +568,58 @@ void compute_bond_forces(Model& m, double dt) {
       m.plastic_work[b] += work;
       if (m.alpha_n[b] != 0.0 || m.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
     } else {
+      // Eq. 2 (normal spring on the current length, objective) and the shear spring.
       m.f_n[b] = m.k_n[b] * (len - m.rest_length[b]);
-      m.f_s[b] = rotation ? m.f_s[b] + m.k_s[b] * du_s : m.k_s[b] * m.u_s[b];
+      if constexpr (Rotation) {
+        m.f_s[b] += m.k_s[b] * du_s;
+      } else {
+        m.f_s[b] = m.k_s[b] * m.u_s[b];
+      }
       // Bonds of J2 disks are elastic; they report the disks' yielding (bonds join the disks
       // of one body).
-      if (m.any_j2 && (m.eps_p_eq[i] > 0 || m.eps_p_eq[j] > 0))
-        m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+      if constexpr (J2) {
+        if (m.eps_p_eq[i] > 0 || m.eps_p_eq[j] > 0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+      }
     }
-    m.len_prev[b] = len;
-    if (m.any_breakable && m.failure_law[b] >= 0) {
-      // Eqs. 17, 19, 20: strain rate of the bond from its stretch over the last step.
-      const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
-      // Strengths of the bond's section, with the rate factors only where the rate is above
-      // 1/s (below, Eq. 20 gives 1) and tan(phi) precomputed per material.
-      const auto l = static_cast<std::size_t>(m.failure_law[b]);
-      const laws::MohrCoulombFailure& law = m.failure_laws[l];
-      const laws::RateFactors rf = edot > 1.0 ? law.rate_factors(edot) : laws::RateFactors{};
-      const laws::BondStrength strength =
-          bond_strength(m, l, rf, m.section[b] * m.strength_factor(static_cast<std::size_t>(b)));
-      const laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], strength);
-      // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into a
-      // contact and books what the break releases.
-      if (mode != laws::FailureMode::None) m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
+    if constexpr (Plastic || Breakable) m.len_prev[b] = len;
+    if constexpr (Breakable) {
+      if (m.failure_law[b] >= 0) {
+        // Eqs. 17, 19, 20: the strengths of the bond's section, with the rate factors of the
+        // bond's strain rate over the last step. The factors are >= 1 and only raise the
+        // strengths, so a bond that holds at its static strengths holds: they (two logarithms)
+        // are computed only for the bonds that do not.
+        const auto l = static_cast<std::size_t>(m.failure_law[b]);
+        const double sec = m.section[b] * m.strength_factor(static_cast<std::size_t>(b));
+        laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec));
+        const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+        if (mode != laws::FailureMode::None && edot > 1.0) {
+          const laws::RateFactors rf = m.failure_laws[l].rate_factors(edot);
+          mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, rf, sec));
+        }
+        // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into
+        // a contact and books what the break releases.
+        if (mode != laws::FailureMode::None) m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
+      }
     }
   }
+}
+
+/// The bond pass for each combination of laws, chosen once per pass instead of per bond.
+using BondKernel = void (*)(Model&, double);
+template <std::size_t K>
+void bond_forces_of(Model& m, double dt) {
+  bond_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0>(m, dt);
+}
+template <std::size_t... K>
+constexpr std::array<BondKernel, sizeof...(K)> bond_kernels(std::index_sequence<K...>) {
+  return {&bond_forces_of<K>...};
+}
+
+void compute_bond_forces(Model& m, double dt) {
+  static constexpr std::array<BondKernel, 32> kernels = bond_kernels(std::make_index_sequence<32>{});
+  const std::size_t k = (m.shear_model == ShearModel::Rotation ? 1U : 0U) | (m.any_plastic ? 2U : 0U) |
+                        (m.any_breakable ? 4U : 0U) | (m.any_softening ? 8U : 0U) | (m.any_j2 ? 16U : 0U);
+  kernels[k](m, dt);
 }
 
 /// Pass C: W_i = S_i M_i^-1 with S_i = dE/d(eps_i): the local-strain shear springs
@@ -589,9 +665,9 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
 /// f_n n + f_s s (rotation model; local strain: f_n n only), the moment on both ends +r f_s.
 /// Local-strain and hoop terms: F_i = sum_k (W_i + W_k) a_ik, the gradient of the energy
 /// through the strains of i and of its neighbours ("stress divergence"); hoop: -A sigma_tt.
-void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
+template <bool PairShear, bool StrainTerms, bool Hoop, bool Breakable, bool Mirror, bool J2>
+void gather_forces(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  const bool mirror = m.has_mirror_springs();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     double fx = 0, fy = 0, tq = 0;
@@ -600,40 +676,44 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
       const double s = m.adj_sign[k];
       const double nx = m.nx[b], ny = m.ny[b];
       double f_x = m.f_n[b] * nx, f_y = m.f_n[b] * ny;
-      if (!m.bond_intact(b)) {
-        // A broken bond in contact: pair force with friction and its moment.
-        f_x -= m.f_s[b] * ny;
-        f_y += m.f_s[b] * nx;
-        fx += s * f_x;
-        fy += s * f_y;
-        tq += m.radius[i] * m.f_s[b];
-        continue;
+      if constexpr (Breakable) {
+        if (!m.bond_intact(b)) {
+          // A broken bond in contact: pair force with friction and its moment.
+          f_x -= m.f_s[b] * ny;
+          f_y += m.f_s[b] * nx;
+          fx += s * f_x;
+          fy += s * f_y;
+          tq += m.radius[i] * m.f_s[b];
+          continue;
+        }
       }
-      if (pair_shear) {
+      if constexpr (PairShear) {
         f_x -= m.f_s[b] * ny;
         f_y += m.f_s[b] * nx;
         tq += m.radius[i] * m.f_s[b];
       }
       fx += s * f_x;
       fy += s * f_y;
-      if (strain_terms && m.bond_in_fit(b)) {
-        // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
-        const auto o = m.adj_other[k];
-        const double ax = m.adj_ax[k], ay = m.adj_ay[k];
-        const double ci = m.strain_ok[o] ? 1.0 : 0.0, co = m.strain_ok[i] ? 1.0 : 0.0;
-        const double wxx = ci * m.w_xx[i] + co * m.w_xx[o], wxy = ci * m.w_xy[i] + co * m.w_xy[o];
-        const double wyx = ci * m.w_yx[i] + co * m.w_yx[o], wyy = ci * m.w_yy[i] + co * m.w_yy[o];
-        fx += wxx * ax + wxy * ay;
-        fy += wyx * ax + wyy * ay;
+      if constexpr (StrainTerms) {
+        if (m.bond_in_fit(b)) {
+          // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
+          const auto o = m.adj_other[k];
+          const double ax = m.adj_ax[k], ay = m.adj_ay[k];
+          const double ci = m.strain_ok[o] ? 1.0 : 0.0, co = m.strain_ok[i] ? 1.0 : 0.0;
+          const double wxx = ci * m.w_xx[i] + co * m.w_xx[o], wxy = ci * m.w_xy[i] + co * m.w_xy[o];
+          const double wyx = ci * m.w_yx[i] + co * m.w_yx[o], wyy = ci * m.w_yy[i] + co * m.w_yy[o];
+          fx += wxx * ax + wxy * ay;
+          fy += wyx * ax + wyy * ay;
+        }
       }
     }
-    if (hoop) {
+    if constexpr (Hoop) {
       // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
       double sigma_tt = hoop_stress(m, i).tt;
-      if (m.any_j2) sigma_tt -= 2 * m.hoop_mu[i] * m.eps_p_33[i];
+      if constexpr (J2) sigma_tt -= 2 * m.hoop_mu[i] * m.eps_p_33[i];
       fx -= m.cell_area[i] * sigma_tt;
     }
-    if (mirror) {
+    if constexpr (Mirror) {
       fx -= m.wall_kx[i] * m.ux[i];
       fy -= m.wall_ky[i] * m.uy[i];
     }
@@ -641,6 +721,24 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
     m.fy[i] = fy;
     m.torque[i] = tq;
   }
+}
+
+/// The gather pass for each combination of terms, chosen once per pass.
+using GatherKernel = void (*)(Model&);
+template <std::size_t K>
+void gather_forces_of(Model& m) {
+  gather_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0, (K & 32) != 0>(m);
+}
+template <std::size_t... K>
+constexpr std::array<GatherKernel, sizeof...(K)> gather_kernels(std::index_sequence<K...>) {
+  return {&gather_forces_of<K>...};
+}
+
+void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
+  static constexpr std::array<GatherKernel, 64> kernels = gather_kernels(std::make_index_sequence<64>{});
+  const std::size_t k = (pair_shear ? 1U : 0U) | (strain_terms ? 2U : 0U) | (hoop ? 4U : 0U) |
+                        (m.any_breakable ? 8U : 0U) | (m.has_mirror_springs() ? 16U : 0U) | (m.any_j2 ? 32U : 0U);
+  kernels[k](m);
 }
 
 }  // namespace

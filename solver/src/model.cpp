@@ -81,7 +81,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.bi = lat.bond_i;
   m.bj = lat.bond_j;
   m.bond_class = lat.bond_class;
-  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.len_prev}) {
+  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
     v->assign(nb, 0.0);
   }
   bool plastic_springs = false, breakable = false;
@@ -89,6 +89,9 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     plastic_springs = plastic_springs || (bm.material->plastic() && !bm.j2);
     breakable = breakable || bm.material->breakable;
   }
+  // The length at the last force pass: for the hardening springs' and the failure law's
+  // increments, and the contacts of broken bonds.
+  if (plastic_springs || breakable) m.len_prev.assign(nb, 0.0);
   if (plastic_springs)
     for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.plastic_work}) v->assign(nb, 0.0);
   if (breakable) {
@@ -175,7 +178,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     const bool axis_class = m.bond_class[b] == 1;
     m.k_n[b] = (axis_class ? K.kn1 : K.kn2) * w;
     m.k_s[b] = (axis_class ? K.ks1 : K.ks2) * w;
-    m.len_prev[b] = m.rest_length[b];
+    if (!m.len_prev.empty()) m.len_prev[b] = m.rest_length[b];
     // Strengths and yield forces act on the bond's section 2r w (Eq. 19, physics.md 7).
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
     const double section = 2.0 * m.radius[i] * w;
@@ -255,7 +258,7 @@ void reset_bond_history(Model& m) {
                   &m.contact_damping_work, &m.friction_work, &m.f_damp, &m.break_kinetic}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
-  m.len_prev = m.rest_length;
+  if (!m.len_prev.empty()) m.len_prev = m.rest_length;
   const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
                      std::any_of(m.cracking.begin(), m.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));

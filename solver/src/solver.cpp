@@ -874,15 +874,12 @@ void Solver::apply_external_forces(double t) {
   }
 }
 
-Solver::StepSums Solver::update_velocities(double t) {
+template <bool Damping, bool External>
+void Solver::update_velocity_blocks(double c_old, double c_new, std::size_t blocks) {
   Model& m = model_;
   const double dt = dt_info_.dt;
   const double alpha = case_.time.mass_damping;
-  const double c_old = 1.0 - 0.5 * alpha * dt, c_new = 1.0 / (1.0 + 0.5 * alpha * dt);
   const std::size_t n = m.num_disks();
-  const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
-  if (block_sums_.size() < blocks) block_sums_.resize(blocks);
-
   // Eq. 18 for every free degree of freedom; held ones get zero (prescribed values below).
   // Energy terms per disk (see EnergyBalance): leap-frog kinetic energy, and the trapezoid
   // work of external and damping forces split into the halves before and after t_n.
@@ -897,13 +894,24 @@ Solver::StepSums Solver::update_velocities(double t) {
       m.vx_old[i] = vxo;
       m.vy_old[i] = vyo;
       m.omega_old[i] = wo;
-      const double fx = m.fx[i] + m.fx_ext[i], fy = m.fy[i] + m.fy_ext[i];
+      double fx = m.fx[i], fy = m.fy[i];
+      if constexpr (External) {
+        fx += m.fx_ext[i];
+        fy += m.fy_ext[i];
+      }
       const bool free_x = !(bits & kFixX);
       const bool free_y = !(bits & kFixY);
       const bool free_w = !(bits & kFixRotation);
-      const double vxn = free_x ? (vxo * c_old + fx / mass * dt) * c_new : 0.0;
-      const double vyn = free_y ? (vyo * c_old + fy / mass * dt) * c_new : 0.0;
-      const double wn = free_w ? (wo * c_old + m.torque[i] / m.inertia[i] * dt) * c_new : 0.0;
+      double vxn = 0.0, vyn = 0.0, wn = 0.0;
+      if constexpr (Damping) {
+        vxn = free_x ? (vxo * c_old + fx / mass * dt) * c_new : 0.0;
+        vyn = free_y ? (vyo * c_old + fy / mass * dt) * c_new : 0.0;
+        wn = free_w ? (wo * c_old + m.torque[i] / m.inertia[i] * dt) * c_new : 0.0;
+      } else {  // c_old = c_new = 1
+        vxn = free_x ? vxo + fx / mass * dt : 0.0;
+        vyn = free_y ? vyo + fy / mass * dt : 0.0;
+        wn = free_w ? wo + m.torque[i] / m.inertia[i] * dt : 0.0;
+      }
       m.vx[i] = vxn;
       m.vy[i] = vyn;
       m.omega[i] = wn;
@@ -911,27 +919,55 @@ Solver::StepSums Solver::update_velocities(double t) {
       s.kinetic_sq += 0.25 * (mass * (vxo * vxo + vyo * vyo + vxn * vxn + vyn * vyn) +
                               m.inertia[i] * (wo * wo + wn * wn));
       if (free_x) {
-        s.ext_a += 0.5 * dt * m.fx_ext[i] * vxo;
-        s.ext_b += 0.5 * dt * m.fx_ext[i] * vxn;
-        const double fd = alpha * mass * 0.5 * (vxo + vxn);  // minus the damping force
-        s.damp_a += 0.5 * dt * fd * vxo;
-        s.damp_b += 0.5 * dt * fd * vxn;
+        if constexpr (External) {
+          s.ext_a += 0.5 * dt * m.fx_ext[i] * vxo;
+          s.ext_b += 0.5 * dt * m.fx_ext[i] * vxn;
+        }
+        if constexpr (Damping) {
+          const double fd = alpha * mass * 0.5 * (vxo + vxn);  // minus the damping force
+          s.damp_a += 0.5 * dt * fd * vxo;
+          s.damp_b += 0.5 * dt * fd * vxn;
+        }
       }
       if (free_y) {
-        s.ext_a += 0.5 * dt * m.fy_ext[i] * vyo;
-        s.ext_b += 0.5 * dt * m.fy_ext[i] * vyn;
-        const double fd = alpha * mass * 0.5 * (vyo + vyn);
-        s.damp_a += 0.5 * dt * fd * vyo;
-        s.damp_b += 0.5 * dt * fd * vyn;
+        if constexpr (External) {
+          s.ext_a += 0.5 * dt * m.fy_ext[i] * vyo;
+          s.ext_b += 0.5 * dt * m.fy_ext[i] * vyn;
+        }
+        if constexpr (Damping) {
+          const double fd = alpha * mass * 0.5 * (vyo + vyn);
+          s.damp_a += 0.5 * dt * fd * vyo;
+          s.damp_b += 0.5 * dt * fd * vyn;
+        }
       }
-      if (free_w) {
-        const double fd = alpha * m.inertia[i] * 0.5 * (wo + wn);
-        s.damp_a += 0.5 * dt * fd * wo;
-        s.damp_b += 0.5 * dt * fd * wn;
+      if constexpr (Damping) {
+        if (free_w) {
+          const double fd = alpha * m.inertia[i] * 0.5 * (wo + wn);
+          s.damp_a += 0.5 * dt * fd * wo;
+          s.damp_b += 0.5 * dt * fd * wn;
+        }
       }
     }
     block_sums_[static_cast<std::size_t>(blk)] = s;
   }
+}
+
+Solver::StepSums Solver::update_velocities(double t) {
+  Model& m = model_;
+  const double dt = dt_info_.dt;
+  const double alpha = case_.time.mass_damping;
+  const double c_old = 1.0 - 0.5 * alpha * dt, c_new = 1.0 / (1.0 + 0.5 * alpha * dt);
+  const std::size_t n = m.num_disks();
+  const std::size_t blocks = (n + kSumBlock - 1) / kSumBlock;
+  if (block_sums_.size() < blocks) block_sums_.resize(blocks);
+
+  // Mass damping and external forces only where the case has them (a template parameter,
+  // not a test per disk): without them their terms are exactly zero.
+  const bool damping = alpha != 0.0, external = !loaded_disks_.empty();
+  if (damping && external) update_velocity_blocks<true, true>(c_old, c_new, blocks);
+  else if (damping) update_velocity_blocks<true, false>(c_old, c_new, blocks);
+  else if (external) update_velocity_blocks<false, true>(c_old, c_new, blocks);
+  else update_velocity_blocks<false, false>(c_old, c_new, blocks);
   StepSums total;
   for (std::size_t b = 0; b < blocks; ++b) {
     total.kinetic += block_sums_[b].kinetic;

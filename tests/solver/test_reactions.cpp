@@ -330,7 +330,9 @@ TEST(ReactionsCli, FileHasTheListedSetsInOrderAtTheProbeRows) {
   EXPECT_EQ(rows.back()[0], energy.back()[0]) << "the last step";
   for (std::size_t k = 1; k < rows.size(); ++k) {
     ASSERT_EQ(rows[k].size(), 7u) << k;
-    if (k > 1) EXPECT_GT(std::stod(rows[k][0]), std::stod(rows[k - 1][0])) << k;
+    if (k > 1) {
+      EXPECT_GT(std::stod(rows[k][0]), std::stod(rows[k - 1][0])) << k;
+    }
     // The loaded set reports its pressure, -p w t f(t) (thickness 1 m, width 10 mm).
     const double t = std::stod(rows[k][0]);
     // Time and force are printed with 10 significant digits: 1e-9 of the value.

@@ -225,6 +225,9 @@ private:
   bool check_energy(const StepSums& s, bool diagnostics);
   void apply_external_forces(double t);
   StepSums update_velocities(double t);
+  /// Eq. 18 and the energy terms per block of disks into block_sums_ (update_velocities).
+  template <bool Damping, bool External>
+  void update_velocity_blocks(double c_old, double c_new, std::size_t blocks);
 
   Case case_;
   meshing::Lattice lattice_;
