@@ -100,12 +100,12 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   setup_boundaries();
   setup_loads();
   setup_reactions();
-  setup_initial_velocities();
   lap(setup_times_.sets);
   setup_contacts();
   lap(setup_times_.contacts);
-  choose_time_step();
+  choose_time_step();  // on the model at rest: the estimate saves no state
   lap(setup_times_.time_step);
+  setup_initial_velocities();
   setup_contact_resolution();
   setup_energy_scale();
   lap(setup_times_.energy_scale);
@@ -720,54 +720,69 @@ double Solver::finite_omega2_max(int max_iterations) {
   // boundary modes are localised).
   Model& m = model_;
   const std::size_t n = m.num_disks();
+  const auto ni = static_cast<std::ptrdiff_t>(n);
   const bool spins = m.shear_model == ShearModel::Rotation;
   const std::size_t dofs = spins ? 3 : 2;
-  // Called at set-up, on the initial state: displacements and velocities are saved and the
-  // bonds' history is reset after every probe (the kernel must act as the linear operator).
-  // At set-up the displacements are zero (then only the velocities are kept); the inverse
-  // square roots of the masses are computed where needed, not stored (set-up memory).
+  // Called at set-up, on the initial state: the bonds' history is reset after every probe
+  // (the kernel must act as the linear operator), and a state that is not at rest is saved
+  // and restored (at set-up it is: the initial velocities are applied after this estimate).
   const auto is_zero = [](const std::vector<double>& a) {
     return std::all_of(a.begin(), a.end(), [](double x) { return x == 0.0; });
   };
-  const bool at_rest = is_zero(m.ux) && is_zero(m.uy) && is_zero(m.theta);
-  std::vector<double> ux, uy, th;
-  if (!at_rest) ux = m.ux, uy = m.uy, th = m.theta;
-  const auto vx = m.vx, vy = m.vy, om = m.omega;
-  const auto inv_sqrt_m_of = [&m, spins, dofs](std::size_t k) {
-    const std::size_t i = k / dofs, c = k % dofs;
-    if (c == 0) return (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
-    if (c == 1) return (m.constraint[i] & kFixY) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
-    return (spins && !(m.constraint[i] & kFixRotation)) ? 1.0 / std::sqrt(m.inertia[i]) : 0.0;
-  };
+  const bool at_rest = is_zero(m.ux) && is_zero(m.uy) && is_zero(m.theta) && is_zero(m.vx) && is_zero(m.vy) &&
+                       is_zero(m.omega);
+  std::vector<double> ux, uy, th, vx, vy, om;
+  if (!at_rest) ux = m.ux, uy = m.uy, th = m.theta, vx = m.vx, vy = m.vy, om = m.omega;
+  // M^-1/2 per degree of freedom (0 where held), in the arrays of the velocities before a
+  // step: they hold nothing until the first step, and the estimate needs no memory of its own.
+  double* const sx = m.vx_old.data();
+  double* const sy = m.vy_old.data();
+  double* const sw = m.omega_old.data();
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ni; ++i) {
+    sx[i] = (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
+    sy[i] = (m.constraint[i] & kFixY) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
+    sw[i] = (spins && !(m.constraint[i] & kFixRotation)) ? 1.0 / std::sqrt(m.inertia[i]) : 0.0;
+  }
   double r_min = std::numeric_limits<double>::infinity();
   for (double r : m.radius) r_min = std::min(r_min, r);
   // y = A v, through displacements small enough (1e-6 r) for the kernel to be linear.
   auto apply = [&](const std::vector<double>& v, std::vector<double>& y) {
-    double umax = 0;
-    for (std::size_t k = 0; k < v.size(); ++k) {
-      const double lever = (spins && k % 3 == 2) ? m.radius[k / 3] : 1.0;
-      umax = std::max(umax, std::abs(v[k] * inv_sqrt_m_of(k)) * lever);
+    double umax = 0;  // a maximum: the same in any order
+#pragma omp parallel for schedule(static) reduction(max : umax)
+    for (std::ptrdiff_t i = 0; i < ni; ++i) {
+      const double* vi = v.data() + dofs * static_cast<std::size_t>(i);
+      double u = std::max(std::abs(vi[0] * sx[i]), std::abs(vi[1] * sy[i]));
+      if (spins) u = std::max(u, std::abs(vi[2] * sw[i]) * m.radius[i]);  // the spin's lever
+      umax = std::max(umax, u);
     }
     const double eps = umax > 0 ? 1e-6 * r_min / umax : 1.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      m.ux[i] = m.vx[i] = eps * v[dofs * i] * inv_sqrt_m_of(dofs * i);
-      m.uy[i] = m.vy[i] = eps * v[dofs * i + 1] * inv_sqrt_m_of(dofs * i + 1);
-      m.theta[i] = m.omega[i] = spins ? eps * v[dofs * i + 2] * inv_sqrt_m_of(dofs * i + 2) : 0.0;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < ni; ++i) {
+      const double* vi = v.data() + dofs * static_cast<std::size_t>(i);
+      m.ux[i] = m.vx[i] = eps * vi[0] * sx[i];
+      m.uy[i] = m.vy[i] = eps * vi[1] * sy[i];
+      m.theta[i] = m.omega[i] = spins ? eps * vi[2] * sw[i] : 0.0;
     }
     reset_bond_history(m);  // every spring starts from zero: its increment is the probe
     compute_internal_forces(m, 1.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      y[dofs * i] = -m.fx[i] / eps * inv_sqrt_m_of(dofs * i);
-      y[dofs * i + 1] = -m.fy[i] / eps * inv_sqrt_m_of(dofs * i + 1);
-      if (spins) y[dofs * i + 2] = -m.torque[i] / eps * inv_sqrt_m_of(dofs * i + 2);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < ni; ++i) {
+      double* yi = y.data() + dofs * static_cast<std::size_t>(i);
+      yi[0] = -m.fx[i] / eps * sx[i];
+      yi[1] = -m.fy[i] / eps * sy[i];
+      if (spins) yi[2] = -m.torque[i] / eps * sw[i];
     }
   };
   std::vector<double> v(n * dofs), v_prev(n * dofs, 0.0), w(n * dofs);
+  const auto nk = static_cast<std::ptrdiff_t>(v.size());
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   double norm = 0;
   for (std::size_t k = 0; k < v.size(); ++k) {
-    v[k] = inv_sqrt_m_of(k) > 0 ? uni(rng) : 0.0;
+    const std::size_t i = k / dofs, c = k % dofs;
+    const double s = c == 0 ? sx[i] : c == 1 ? sy[i] : sw[i];
+    v[k] = s > 0 ? uni(rng) : 0.0;
     norm += v[k] * v[k];
   }
   std::vector<double> alpha, beta;
@@ -778,13 +793,14 @@ double Solver::finite_omega2_max(int max_iterations) {
     for (int it = 0; it < max_iterations; ++it) {
       dt_info_.finite_iterations = it + 1;
       apply(v, w);
+      // The dot products in index order (the estimate, and so the step, do not depend on
+      // the thread count); the vector updates in parallel.
       double a = 0;
       for (std::size_t k = 0; k < w.size(); ++k) a += v[k] * w[k];
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t k = 0; k < nk; ++k) w[k] -= a * v[k] + beta_prev * v_prev[k];
       double b2 = 0;
-      for (std::size_t k = 0; k < w.size(); ++k) {
-        w[k] -= a * v[k] + beta_prev * v_prev[k];
-        b2 += w[k] * w[k];
-      }
+      for (std::size_t k = 0; k < w.size(); ++k) b2 += w[k] * w[k];
       alpha.push_back(a);
       const double b = std::sqrt(b2);
       if ((it + 1) % 10 == 0 || b == 0 || it + 1 == max_iterations) {
@@ -797,7 +813,8 @@ double Solver::finite_omega2_max(int max_iterations) {
         lambda_prev = lambda;
       }
       beta.push_back(b);
-      for (std::size_t k = 0; k < w.size(); ++k) {
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t k = 0; k < nk; ++k) {
         v_prev[k] = v[k];
         v[k] = w[k] / b;
       }
@@ -805,11 +822,12 @@ double Solver::finite_omega2_max(int max_iterations) {
     }
   }
   if (at_rest) {
-    for (auto* a : {&m.ux, &m.uy, &m.theta}) std::fill(a->begin(), a->end(), 0.0);
+    for (auto* a : {&m.ux, &m.uy, &m.theta, &m.vx, &m.vy, &m.omega}) std::fill(a->begin(), a->end(), 0.0);
   } else {
     m.ux = ux; m.uy = uy; m.theta = th;
+    m.vx = vx; m.vy = vy; m.omega = om;
   }
-  m.vx = vx; m.vy = vy; m.omega = om;
+  for (auto* a : {&m.vx_old, &m.vy_old, &m.omega_old}) std::fill(a->begin(), a->end(), 0.0);
   reset_bond_history(m);
   return lambda;
 }
