@@ -604,69 +604,11 @@ void bond_forces(Model& m, double dt) {
   }
 }
 
-/// Pass B for elastic bonds (no hardening, failure or softening): Eq. 2 in one short loop
-/// over raw arrays, which the compiler may keep in registers and vectorise (the general
-/// loop above calls the laws through the model and reloads its arrays).
-template <bool Rotation, bool J2>
-void elastic_bond_forces(Model& m, double dt) {
-  const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
-  const std::int32_t* __restrict bi = m.bi.data();
-  const std::int32_t* __restrict bj = m.bj.data();
-  const double* __restrict ax = m.ax.data();
-  const double* __restrict ay = m.ay.data();
-  const double* __restrict ux = m.ux.data();
-  const double* __restrict uy = m.uy.data();
-  const double* __restrict vx = m.vx.data();
-  const double* __restrict vy = m.vy.data();
-  const double* __restrict omega = m.omega.data();
-  const double* __restrict radius = m.radius.data();
-  const double* __restrict rest = m.rest_length.data();
-  const double* __restrict k_n = m.k_n.data();
-  const double* __restrict k_s = m.k_s.data();
-  double* __restrict out_nx = m.nx.data();
-  double* __restrict out_ny = m.ny.data();
-  double* __restrict f_n = m.f_n.data();
-  double* __restrict f_s = m.f_s.data();
-  double* __restrict u_s = Rotation ? nullptr : m.u_s.data();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t b = 0; b < nb; ++b) {
-    const std::int32_t i = bi[b], j = bj[b];
-    const double dx = ax[b] + (ux[j] - ux[i]);
-    const double dy = ay[b] + (uy[j] - uy[i]);
-    const double len = std::sqrt(dx * dx + dy * dy);
-    const double nx = dx / len, ny = dy / len;
-    out_nx[b] = nx;
-    out_ny[b] = ny;
-    f_n[b] = k_n[b] * (len - rest[b]);  // Eq. 2, normal spring on the current length
-    if constexpr (Rotation) {
-      // Eq. 2, shear: the increment from the relative velocity and the spins.
-      const double sx = -ny, sy = nx;
-      const double du_s = dt * ((vx[j] - vx[i]) * sx + (vy[j] - vy[i]) * sy - (radius[i] * omega[i] + radius[j] * omega[j]));
-      f_s[b] += k_s[b] * du_s;
-    } else {
-      const double us = local_shear(m, static_cast<std::size_t>(b));
-      u_s[b] = us;
-      f_s[b] = k_s[b] * us;
-    }
-    if constexpr (J2) {
-      // Bonds of J2 disks are elastic; they report the disks' yielding.
-      if (m.eps_p_eq[static_cast<std::size_t>(i)] > 0 || m.eps_p_eq[static_cast<std::size_t>(j)] > 0)
-        m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
-    }
-  }
-}
-
 /// The bond pass for each combination of laws, chosen once per pass instead of per bond.
 using BondKernel = void (*)(Model&, double);
 template <std::size_t K>
 void bond_forces_of(Model& m, double dt) {
-  constexpr bool rotation = (K & 1) != 0, plastic = (K & 2) != 0, breakable = (K & 4) != 0;
-  constexpr bool softening = (K & 8) != 0, j2 = (K & 16) != 0;
-  if constexpr (!plastic && !breakable && !softening) {
-    elastic_bond_forces<rotation, j2>(m, dt);
-  } else {
-    bond_forces<rotation, plastic, breakable, softening, j2>(m, dt);
-  }
+  bond_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0>(m, dt);
 }
 template <std::size_t... K>
 constexpr std::array<BondKernel, sizeof...(K)> bond_kernels(std::index_sequence<K...>) {
@@ -985,7 +927,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       // its overlap (a bond that breaks in compression keeps pushing).
       m.f_n[b] = m.f_s[b] = m.f_damp[b] = 0.0;
       if (!m.alpha_n.empty()) m.alpha_n[b] = m.alpha_s[b] = 0.0;
-      m.u_s[b] = 0.0;
+      if (!m.u_s.empty()) m.u_s[b] = 0.0;  // the local-strain or softening shear measure
       broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
     }
     if (strains) {

@@ -137,8 +137,6 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
                     &m.w_yy})
       v->assign(n, 0.0);
     for (auto* v : {&m.u_s, &m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
-  } else if (shear_model == ShearModel::Rotation && breakable) {
-    m.u_s.assign(nb, 0.0);  // a broken bond's contact keeps its tangential history there
   }
   if (m.any_softening) {
     for (auto* v : {&m.damage, &m.kappa, &m.delta0, &m.delta_f}) v->assign(nb, 0.0);

@@ -77,16 +77,14 @@ struct MohrCoulombFailure {
   /// The fit is meaningless below 1/s (it rises again as the rate falls): 1 for
   /// edot <= 1/s, and never below 1 (the fit is 0.948 at 10/s and exceeds 1 above 24.4/s).
   [[nodiscard]] static double tension_rate_factor(double edot) noexcept {
-    const double L = std::log10(std::fmax(edot, 1.0));
-    return edot > 1.0 ? std::fmax(1.0, 0.8743 + L * (0.02987 + L * 0.04379)) : 1.0;
+    return edot > 1.0 ? tension_fit(std::log10(edot)) : 1.0;
   }
 
   /// Eq. 20, compression: 1.021 - 0.05076 L + 0.02583 L^2, with the same guards. Note the
   /// fit starts at 1.021 just above 1/s: the factor jumps from 1 to 1.021 there, the fit dips
   /// below 1 (clamped to 1) between 3.9/s and 23.6/s, and grows beyond.
   [[nodiscard]] static double compression_rate_factor(double edot) noexcept {
-    const double L = std::log10(std::fmax(edot, 1.0));
-    return edot > 1.0 ? std::fmax(1.0, 1.021 + L * (-0.05076 + L * 0.02583)) : 1.0;
+    return edot > 1.0 ? compression_fit(std::log10(edot)) : 1.0;
   }
 
   /// The three factors at bond strain rate edot = |d(du_n/d)/dt| [1/s]; cohesion
@@ -94,13 +92,21 @@ struct MohrCoulombFailure {
   [[nodiscard]] RateFactors rate_factors(double edot) const noexcept {
     if (!rate_dependent) return {};
     if (!(edot > 1.0)) return {};
-    // The two fits above with one logarithm (the same values).
-    const double L = std::log10(edot);
-    const double t = std::fmax(1.0, 0.8743 + L * (0.02987 + L * 0.04379));
-    const double cc = std::fmax(1.0, 1.021 + L * (-0.05076 + L * 0.02583));
+    const double L = std::log10(edot);  // one logarithm for both fits
+    const double t = tension_fit(L), cc = compression_fit(L);
     return {t, cc, std::sqrt(t * cc)};
   }
 
+private:
+  /// The Eq. 20 fits at L = log10(edot), clamped to >= 1.
+  [[nodiscard]] static double tension_fit(double L) noexcept {
+    return std::fmax(1.0, 0.8743 + L * (0.02987 + L * 0.04379));
+  }
+  [[nodiscard]] static double compression_fit(double L) noexcept {
+    return std::fmax(1.0, 1.021 + L * (-0.05076 + L * 0.02583));
+  }
+
+public:
   /// tan(phi) [-].
   [[nodiscard]] double tan_phi() const noexcept {
     return std::tan(phi * 0.017453292519943295);  // pi / 180
