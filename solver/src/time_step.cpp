@@ -1,0 +1,181 @@
+// The time step (physics.md section 5): the Bloch critical step of each body's lattice, the
+// finite model's largest eigenfrequency by Lanczos, the contact dashpot's reduction and the
+// step that lands on the end time.
+#include "hexdem/solver/solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "hexdem/error.hpp"
+
+#include "solver_text.hpp"
+
+namespace hexdem::solver {
+
+using detail::fmt;
+
+double Solver::finite_omega2_max(int max_iterations) {
+  // Lanczos on A = M^-1/2 K M^-1/2 (held degrees of freedom removed), with K applied through
+  // the force kernel itself: the largest Ritz value converges in a few tens of iterations,
+  // where plain power iteration crawls (the top of a lattice's spectrum is dense and its
+  // boundary modes are localised).
+  Model& m = model_;
+  const std::size_t n = m.num_disks();
+  const auto ni = static_cast<std::ptrdiff_t>(n);
+  const bool spins = m.shear_model == ShearModel::Rotation;
+  const std::size_t dofs = spins ? 3 : 2;
+  // Called at set-up, on the initial state: the bonds' history is reset after every probe
+  // (the kernel must act as the linear operator), and a state that is not at rest is saved
+  // and restored (at set-up it is: the initial velocities are applied after this estimate).
+  const auto is_zero = [](const std::vector<double>& a) {
+    return std::all_of(a.begin(), a.end(), [](double x) { return x == 0.0; });
+  };
+  const bool at_rest = is_zero(m.ux) && is_zero(m.uy) && is_zero(m.theta) && is_zero(m.vx) && is_zero(m.vy) &&
+                       is_zero(m.omega);
+  std::vector<double> ux, uy, th, vx, vy, om;
+  if (!at_rest) ux = m.ux, uy = m.uy, th = m.theta, vx = m.vx, vy = m.vy, om = m.omega;
+  // M^-1/2 per degree of freedom (0 where held), in the arrays of the velocities before a
+  // step: they hold nothing until the first step, and the estimate needs no memory of its own.
+  double* const sx = m.vx_old.data();
+  double* const sy = m.vy_old.data();
+  double* const sw = m.omega_old.data();
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < ni; ++i) {
+    sx[i] = (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
+    sy[i] = (m.constraint[i] & kFixY) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
+    sw[i] = (spins && !(m.constraint[i] & kFixRotation)) ? 1.0 / std::sqrt(m.inertia[i]) : 0.0;
+  }
+  double r_min = std::numeric_limits<double>::infinity();
+  for (double r : m.radius) r_min = std::min(r_min, r);
+  // y = A v, through displacements small enough (1e-6 r) for the kernel to be linear.
+  auto apply = [&](const std::vector<double>& v, std::vector<double>& y) {
+    double umax = 0;  // a maximum: the same in any order
+#pragma omp parallel for schedule(static) reduction(max : umax)
+    for (std::ptrdiff_t i = 0; i < ni; ++i) {
+      const double* vi = v.data() + dofs * static_cast<std::size_t>(i);
+      double u = std::max(std::abs(vi[0] * sx[i]), std::abs(vi[1] * sy[i]));
+      if (spins) u = std::max(u, std::abs(vi[2] * sw[i]) * m.radius[i]);  // the spin's lever
+      umax = std::max(umax, u);
+    }
+    const double eps = umax > 0 ? 1e-6 * r_min / umax : 1.0;
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < ni; ++i) {
+      const double* vi = v.data() + dofs * static_cast<std::size_t>(i);
+      m.ux[i] = m.vx[i] = eps * vi[0] * sx[i];
+      m.uy[i] = m.vy[i] = eps * vi[1] * sy[i];
+      m.theta[i] = m.omega[i] = spins ? eps * vi[2] * sw[i] : 0.0;
+    }
+    reset_bond_history(m);  // every spring starts from zero: its increment is the probe
+    compute_internal_forces(m, 1.0);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < ni; ++i) {
+      double* yi = y.data() + dofs * static_cast<std::size_t>(i);
+      yi[0] = -m.fx[i] / eps * sx[i];
+      yi[1] = -m.fy[i] / eps * sy[i];
+      if (spins) yi[2] = -m.torque[i] / eps * sw[i];
+    }
+  };
+  std::vector<double> v(n * dofs), v_prev(n * dofs, 0.0), w(n * dofs);
+  const auto nk = static_cast<std::ptrdiff_t>(v.size());
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  double norm = 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const std::size_t i = k / dofs, c = k % dofs;
+    const double s = c == 0 ? sx[i] : c == 1 ? sy[i] : sw[i];
+    v[k] = s > 0 ? uni(rng) : 0.0;
+    norm += v[k] * v[k];
+  }
+  std::vector<double> alpha, beta;
+  double lambda = 0;
+  if (norm > 0) {
+    for (double& x : v) x /= std::sqrt(norm);
+    double beta_prev = 0, lambda_prev = 0;
+    for (int it = 0; it < max_iterations; ++it) {
+      dt_info_.finite_iterations = it + 1;
+      apply(v, w);
+      // The dot products in index order (the estimate, and so the step, do not depend on
+      // the thread count); the vector updates in parallel.
+      double a = 0;
+      for (std::size_t k = 0; k < w.size(); ++k) a += v[k] * w[k];
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t k = 0; k < nk; ++k) w[k] -= a * v[k] + beta_prev * v_prev[k];
+      double b2 = 0;
+      for (std::size_t k = 0; k < w.size(); ++k) b2 += w[k] * w[k];
+      alpha.push_back(a);
+      const double b = std::sqrt(b2);
+      if ((it + 1) % 10 == 0 || b == 0 || it + 1 == max_iterations) {
+        Eigen::VectorXd diag = Eigen::Map<Eigen::VectorXd>(alpha.data(), static_cast<Eigen::Index>(alpha.size()));
+        Eigen::VectorXd off = Eigen::Map<Eigen::VectorXd>(beta.data(), static_cast<Eigen::Index>(beta.size()));
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
+        es.computeFromTridiagonal(diag, off, Eigen::EigenvaluesOnly);
+        lambda = es.eigenvalues().maxCoeff();
+        if (b == 0 || (it >= 29 && std::abs(lambda - lambda_prev) < 1e-6 * lambda)) break;
+        lambda_prev = lambda;
+      }
+      beta.push_back(b);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t k = 0; k < nk; ++k) {
+        v_prev[k] = v[k];
+        v[k] = w[k] / b;
+      }
+      beta_prev = b;
+    }
+  }
+  if (at_rest) {
+    for (auto* a : {&m.ux, &m.uy, &m.theta, &m.vx, &m.vy, &m.omega}) std::fill(a->begin(), a->end(), 0.0);
+  } else {
+    m.ux = ux; m.uy = uy; m.theta = th;
+    m.vx = vx; m.vy = vy; m.omega = om;
+  }
+  for (auto* a : {&m.vx_old, &m.vy_old, &m.omega_old}) std::fill(a->begin(), a->end(), 0.0);
+  reset_bond_history(m);
+  return lambda;
+}
+
+void Solver::choose_time_step() {
+  TimeStepInfo& info = dt_info_;
+  info.dt_bloch = std::numeric_limits<double>::infinity();
+  info.dt_eq24 = std::numeric_limits<double>::infinity();
+  for (std::size_t b = 0; b < bloch_.size(); ++b) {
+    info.dt_bloch = std::min(info.dt_bloch, bloch_[b].dt_critical);
+    const BodyMaterial& bm = body_materials_[b];
+    info.dt_eq24 = std::min(info.dt_eq24, eq24_time_step(bm.springs, bm.material->density,
+                                                         case_.outline.bodies[b].radius.value_or(0.0)));
+  }
+  // Ritz values converge from below: allow 2 % for what the iteration has not reached.
+  const double w2 = finite_omega2_max();
+  info.dt_finite = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : std::numeric_limits<double>::infinity();
+  info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
+  // A contact dashpot at a fraction eta of critical damping makes central differences stable
+  // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such
+  // contacts with the bonds' stiffness.
+  if ((model_.any_breakable || contacts_on_ || !case_.walls.empty()) && case_.contact.damping > 0) {
+    const double eta = case_.contact.damping;
+    info.dt_critical *= std::sqrt(1 + eta * eta) - eta;
+  }
+  if (case_.time.dt) {
+    info.user_dt = true;
+    info.dt = *case_.time.dt;
+    if (info.dt > info.dt_critical && !case_.time.allow_unstable) {
+      throw InputError(case_.source + ": [time] dt = " + fmt(info.dt, 6) + " s exceeds the critical time step " +
+                       fmt(info.dt_critical, 6) + " s (Bloch " + fmt(info.dt_bloch, 6) + " s, finite model " +
+                       fmt(info.dt_finite, 6) + " s); lower dt, or set allow_unstable = true to study the instability");
+    }
+  } else {
+    // The largest step below safety x critical that lands exactly on the end time.
+    const double target = case_.time.safety * info.dt_critical;
+    const double steps = std::ceil(case_.time.end / target - 1e-9);
+    info.dt = case_.time.end / steps;
+  }
+}
+
+std::int64_t Solver::total_steps() const {
+  return static_cast<std::int64_t>(std::ceil(case_.time.end / dt_info_.dt - 1e-9));
+}
+
+}  // namespace hexdem::solver
