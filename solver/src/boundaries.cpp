@@ -178,9 +178,10 @@ void Solver::setup_loads() {
   }
   for (std::size_t i = 0; i < loaded.size(); ++i)
     if (loaded[i]) loaded_disks_.push_back(static_cast<std::int32_t>(i));
-  // The loads' lever arms (disk_stress), for the cases that have loads.
+  // The loads' forces and lever arms (disk_stress), for the cases that have loads.
   if (!loaded_disks_.empty())
-    for (auto* v : {&model_.ext_mxx, &model_.ext_myy, &model_.ext_mxy}) v->assign(model_.num_disks(), 0.0);
+    for (auto* v : {&model_.fx_ext, &model_.fy_ext, &model_.ext_mxx, &model_.ext_myy, &model_.ext_mxy})
+      v->assign(model_.num_disks(), 0.0);
 }
 
 void Solver::setup_reactions() {
@@ -244,8 +245,9 @@ std::array<double, 2> Solver::reaction(std::size_t k) const {
   // leap-frog acceleration (v(t+dt/2) - v(t-dt/2)) / dt it was given (update_velocities).
   for (std::size_t j = 0; j < rs.disks.size(); ++j) {
     const auto i = static_cast<std::size_t>(rs.disks[j]);
-    if (rs.held[j] & kFixX) rx += m.mass[i] * (m.vx[i] - m.vx_old[i]) / dt - (m.fx[i] + m.fx_ext[i]);
-    if (rs.held[j] & kFixY) ry += m.mass[i] * (m.vy[i] - m.vy_old[i]) / dt - (m.fy[i] + m.fy_ext[i]);
+    const double fx_ext = m.fx_ext.empty() ? 0.0 : m.fx_ext[i], fy_ext = m.fy_ext.empty() ? 0.0 : m.fy_ext[i];
+    if (rs.held[j] & kFixX) rx += m.mass[i] * (m.vx[i] - m.vx_old[i]) / dt - (m.fx[i] + fx_ext);
+    if (rs.held[j] & kFixY) ry += m.mass[i] * (m.vy[i] - m.vy_old[i]) / dt - (m.fy[i] + fy_ext);
   }
   // Mirror springs, F = -k u at t_n (compute_internal_forces).
   for (std::size_t j = 0; j < rs.spring_disks.size(); ++j) {

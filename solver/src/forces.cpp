@@ -1070,7 +1070,7 @@ Stress disk_stress(const Model& m, std::size_t i) {
     st.yy += m.ext_myy[i] * ext;
     st.xy += m.ext_mxy[i] * ext;
   }
-  st.zz = m.nu_zz[i] * (st.xx + st.yy);
+  st.zz = m.nu_zz.empty() ? 0.0 : m.nu_zz[i] * (st.xx + st.yy);  // plane strain, isotropic only
   if (m.geometry == Geometry::Axisymmetric) {
     const HoopStress h = hoop_stress(m, i);
     st.zz = h.tt;

@@ -29,14 +29,27 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.body = lat.body;
   m.material = lat.material;
   // Arrays of the features a case uses only (docs/benchmarks.md, "Memory"): the surface
-  // loads' lever arms and the mirror springs are allocated by the Solver when the case has
+  // loads' forces and lever arms and the mirror springs are allocated by the Solver when the case has
   // them, the local-strain arrays below when some term needs the disks' strains, and the
   // bonds' plasticity and failure arrays when a material yields or breaks.
   for (auto* v : {&m.ux, &m.uy, &m.vx, &m.vy, &m.theta, &m.omega, &m.fx, &m.fy, &m.torque,
-                  &m.fx_ext, &m.fy_ext, &m.mass, &m.inertia, &m.weight,
-                  &m.hoop_lambda, &m.hoop_mu, &m.nu_zz, &m.vx_old, &m.vy_old, &m.omega_old}) {
+                  &m.mass, &m.inertia, &m.weight, &m.vx_old, &m.vy_old, &m.omega_old}) {
     v->assign(n, 0.0);
   }
+  // The out-of-plane constants only for the geometries and materials that have the term: the
+  // hoop strain of every ring (axisymmetric), the J2 disks' zz eigenstrain (plane strain), and
+  // sigma_zz = nu (sxx + syy) of the isotropic materials in plane strain.
+  bool out_of_plane = axisym, plane_strain_nu = false;
+  for (const BodyMaterial& bm : materials) {
+    const bool ps = geometry == Geometry::PlaneStrain;
+    out_of_plane = out_of_plane || (ps && bm.j2 && bm.material->plastic());
+    plane_strain_nu = plane_strain_nu || (ps && bm.material->isotropic);
+  }
+  if (out_of_plane) {
+    m.hoop_lambda.assign(n, 0.0);
+    m.hoop_mu.assign(n, 0.0);
+  }
+  if (plane_strain_nu) m.nu_zz.assign(n, 0.0);
   m.constraint.assign(n, 0);
   m.mirror_plane.assign(n, 0);
   m.initial_bonds.assign(n, 0);

@@ -71,6 +71,7 @@ std::array<double, 2> momentum_rate(const Solver& s) {
 std::array<double, 2> external_load(const Solver& s) {
   const Model& m = s.model();
   std::array<double, 2> sum{0, 0};
+  if (m.fx_ext.empty()) return sum;  // allocated only when the case has loads
   for (std::size_t i = 0; i < m.num_disks(); ++i) {
     sum[0] += m.fx_ext[i];
     sum[1] += m.fy_ext[i];

@@ -205,12 +205,6 @@ std::string block_case(const std::string& extra) {
          "[time]\nend = 1e-6\n" + extra;
 }
 
-std::string number(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-
 std::string solver_error(const std::string& text) {
   try {
     const Case c = parse_case(text, "block.toml", ".");

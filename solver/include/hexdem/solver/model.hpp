@@ -58,7 +58,7 @@ struct Model {
   std::vector<double> vx, vy;          ///< velocity at t - dt/2 (leap-frog) [m/s]
   std::vector<double> theta, omega;    ///< rotation [rad] at t, spin [rad/s] at t - dt/2
   std::vector<double> fx, fy, torque;  ///< total force [N] and moment [N m] at t
-  std::vector<double> fx_ext, fy_ext;  ///< external part of the force at t [N]
+  std::vector<double> fx_ext, fy_ext;  ///< external part of the force at t [N]; empty without loads
   std::vector<double> ext_mxx, ext_myy, ext_mxy;  ///< sum sym(x_c (x) F) of the surface loads
                                                   ///< (x_c: lever arm from the centre) [N m]
   std::vector<double> mass, inertia;   ///< m = rho A w, I = m r^2 / 2 (w: thickness or b)
@@ -102,9 +102,11 @@ struct Model {
   std::vector<double> hoop_const;
   std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
   /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
-  /// the disks of J2 materials; else 0).
+  /// the disks of J2 materials, 0 for the others; empty in models without the term).
   std::vector<double> hoop_lambda, hoop_mu;
-  std::vector<double> nu_zz;  ///< plane strain, isotropic: sigma_zz = nu (sxx + syy); else 0
+  /// Plane strain, isotropic: sigma_zz = nu (sxx + syy) (0 for the other disks); empty in
+  /// plane stress, axisymmetry and plane strain without an isotropic material.
+  std::vector<double> nu_zz;
   std::vector<double> vx_old, vy_old, omega_old;  ///< velocities at t - 3dt/2 after a step
 
   // ---- bonds --------------------------------------------------------------------------
