@@ -217,9 +217,11 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.adj_offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + m.initial_bonds[i];
   m.adj_bond.assign(2 * nb, 0);
-  m.adj_other.assign(2 * nb, 0);
   m.adj_sign.assign(2 * nb, 0);
+  // The neighbours and reference vectors of the fits: only for the strain terms (the pair
+  // forces need the bond and its sign alone).
   if (m.uses_strains) {
+    m.adj_other.assign(2 * nb, 0);
     m.adj_ax.assign(2 * nb, 0.0);
     m.adj_ay.assign(2 * nb, 0.0);
   }
@@ -228,12 +230,12 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     const auto i = m.bi[b], j = m.bj[b];
     const auto pi = fill[static_cast<std::size_t>(i)]++, pj = fill[static_cast<std::size_t>(j)]++;
     m.adj_bond[pi] = static_cast<std::int32_t>(b);
-    m.adj_other[pi] = j;
     m.adj_sign[pi] = 1;
     m.adj_bond[pj] = static_cast<std::int32_t>(b);
-    m.adj_other[pj] = i;
     m.adj_sign[pj] = -1;
     if (m.uses_strains) {
+      m.adj_other[pi] = j;
+      m.adj_other[pj] = i;
       m.adj_ax[pi] = m.ax[b];
       m.adj_ay[pi] = m.ay[b];
       m.adj_ax[pj] = -m.ax[b];

@@ -192,7 +192,7 @@ struct Model {
   // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
   std::vector<std::int64_t> adj_offset;  ///< size num_disks + 1
   std::vector<std::int32_t> adj_bond;    ///< bond index
-  std::vector<std::int32_t> adj_other;   ///< the other disk
+  std::vector<std::int32_t> adj_other;   ///< the other disk (strain terms only; empty otherwise)
   std::vector<std::int8_t> adj_sign;     ///< +1 if the disk is the bond's bi, -1 if bj
   std::vector<double> adj_ax, adj_ay;    ///< reference vector to the other disk [m]
 
