@@ -76,6 +76,8 @@ void visit_model(M& m, V& v) {
   v.state("rest_length", m.rest_length);
   v.state("g_xx", m.g_xx); v.state("g_yy", m.g_yy); v.state("g_xy", m.g_xy);
   v.state("k_n", m.k_n); v.state("k_s", m.k_s);
+  v.rebuilt("spring_kind", m.spring_kind);  // per-kind stiffnesses: from the lattice and materials
+  v.rebuilt("kind_k_n", m.kind_k_n); v.rebuilt("kind_k_s", m.kind_k_s);
   v.state("f_n", m.f_n); v.state("f_s", m.f_s);
   v.state("nx", m.nx); v.state("ny", m.ny);
   v.state("u_s", m.u_s);

@@ -287,12 +287,12 @@ inline double contact_cap(const Model& m, std::size_t b) {
 }
 
 /// Normal stiffness of broken bond b acting as a contact [N/m]: its normal spring, capped.
-inline double contact_normal_stiffness(const Model& m, std::size_t b) { return std::min(m.k_n[b], contact_cap(m, b)); }
+inline double contact_normal_stiffness(const Model& m, std::size_t b) { return std::min(m.kn(b), contact_cap(m, b)); }
 
 /// Tangential stiffness of broken bond b acting as a contact [N/m]: its shear spring, or half
 /// the normal one where the shear spring is not positive; capped.
 inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
-  return std::min(m.k_s[b] > 0 ? m.k_s[b] : 0.5 * m.k_n[b], contact_cap(m, b));
+  return std::min(m.ks(b) > 0 ? m.ks(b) : 0.5 * m.kn(b), contact_cap(m, b));
 }
 
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
@@ -301,15 +301,15 @@ double intact_bond_energy(const Model& m, std::size_t b) {
   if (!m.damage.empty() && m.cracking[b]) {
     // A cracking bond: (1 - D) on both springs, the normal one only while open.
     const double g = 1 - m.damage[b], delta = m.len_prev[b] - m.rest_length[b];
-    return 0.5 * m.k_n[b] * delta * delta * (delta > 0 ? g : 1.0) + g * 0.5 * m.k_s[b] * m.u_s[b] * m.u_s[b];
+    return 0.5 * m.kn(b) * delta * delta * (delta > 0 ? g : 1.0) + g * 0.5 * m.ks(b) * m.u_s[b] * m.u_s[b];
   }
-  double e = m.k_n[b] != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] : 0.0;
-  if (m.k_s[b] != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+  double e = m.kn(b) != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) : 0.0;
+  if (m.ks(b) != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
   if (m.yields(b)) {
-    const double hn = m.k_n[b] * m.kh_n[b] / (m.k_n[b] - m.kh_n[b]);
+    const double hn = m.kn(b) * m.kh_n[b] / (m.kn(b) - m.kh_n[b]);
     if (hn > 0) e += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
-    if (m.k_s[b] > 0) {
-      const double hs = m.k_s[b] * m.kh_s[b] / (m.k_s[b] - m.kh_s[b]);
+    if (m.ks(b) > 0) {
+      const double hs = m.ks(b) * m.kh_s[b] / (m.ks(b) - m.kh_s[b]);
       if (hs > 0) e += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
     }
   }
@@ -410,7 +410,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double us = m.u_s[b];
   if (m.cracking[b] && delta > m.kappa[b]) {
     const double d = laws::LinearSoftening::damage(delta, m.delta0[b], m.delta_f[b]);
-    const double e = 0.5 * (m.k_n[b] * delta * delta + m.k_s[b] * us * us);
+    const double e = 0.5 * (m.kn(b) * delta * delta + m.ks(b) * us * us);
     if (d > m.damage[b] && e > 0) {
       // What the damage step releases at t_n, as for a break (docs/model.md, "Energy at a
       // break"): the drop of the springs' energy, dD e, less the half step of the force drop
@@ -419,7 +419,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       // u_s_prev) / 2: the springs' energy in the bilinear form of the two steps, second-order
       // accurate. It is >= 0 unless a measure changed sign within the step; then the spring's
       // energy passed through 0 and the negative part is the integrator's (break_kinetic).
-      const double half = 0.5 * (m.k_n[b] * delta * du_n + m.k_s[b] * us * du_s);
+      const double half = 0.5 * (m.kn(b) * delta * du_n + m.ks(b) * us * du_s);
       const double released = (d - m.damage[b]) * (e - half);
       m.fracture_energy[b] += std::max(released, 0.0);
       m.break_kinetic[b] += std::min(released, 0.0);
@@ -428,8 +428,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     }
   }
   const double g = 1 - m.damage[b];
-  m.f_n[b] = m.k_n[b] * delta * (delta > 0 ? g : 1.0);
-  m.f_s[b] = g * m.k_s[b] * us;
+  m.f_n[b] = m.kn(b) * delta * (delta > 0 ? g : 1.0);
+  m.f_s[b] = g * m.ks(b) * us;
   m.len_prev[b] = len;
   if (m.cracking[b]) {
     if (m.damage[b] >= 1.0) m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
@@ -510,8 +510,14 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
 template <bool Rotation, bool Plastic, bool Breakable, bool Softening, bool J2>
 void bond_forces(Model& m, double dt) {
   const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
+  // The stiffnesses per kind or per bond (Model::kn), decided once for the pass.
+  const bool per_kind = m.k_n.empty();
+  const double* __restrict kn_of = per_kind ? m.kind_k_n.data() : m.k_n.data();
+  const double* __restrict ks_of = per_kind ? m.kind_k_s.data() : m.k_s.data();
+  const std::uint8_t* __restrict kind = m.spring_kind.data();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
+    const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
     const double dx = m.ax[b] + (m.ux[j] - m.ux[i]);
     const double dy = m.ay[b] + (m.uy[j] - m.uy[i]);
@@ -552,28 +558,28 @@ void bond_forces(Model& m, double dt) {
     if (hardening) {
       // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
       laws::BilinearState sn{m.f_n[b], m.alpha_n[b]};
-      const laws::BilinearKinematic normal{m.k_n[b], m.kh_n[b], m.f_yield[b]};
+      const laws::BilinearKinematic normal{kn_of[kb], m.kh_n[b], m.f_yield[b]};
       double work = normal.update(sn, du_n).dissipation_trapezoid;
       m.f_n[b] = sn.f;
       m.alpha_n[b] = sn.alpha;
-      if (m.k_s[b] > 0) {
+      if (ks_of[kb] > 0) {
         laws::BilinearState ss{m.f_s[b], m.alpha_s[b]};
-        const laws::BilinearKinematic shear{m.k_s[b], m.kh_s[b], m.f_yield[b]};
+        const laws::BilinearKinematic shear{ks_of[kb], m.kh_s[b], m.f_yield[b]};
         work += shear.update(ss, du_s).dissipation_trapezoid;
         m.f_s[b] = ss.f;
         m.alpha_s[b] = ss.alpha;
       } else {
-        m.f_s[b] += m.k_s[b] * du_s;
+        m.f_s[b] += ks_of[kb] * du_s;
       }
       m.plastic_work[b] += work;
       if (m.alpha_n[b] != 0.0 || m.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
     } else {
       // Eq. 2 (normal spring on the current length, objective) and the shear spring.
-      m.f_n[b] = m.k_n[b] * (len - m.rest_length[b]);
+      m.f_n[b] = kn_of[kb] * (len - m.rest_length[b]);
       if constexpr (Rotation) {
-        m.f_s[b] += m.k_s[b] * du_s;
+        m.f_s[b] += ks_of[kb] * du_s;
       } else {
-        m.f_s[b] = m.k_s[b] * m.u_s[b];
+        m.f_s[b] = ks_of[kb] * m.u_s[b];
       }
       // Bonds of J2 disks are elastic; they report the disks' yielding (bonds join the disks
       // of one body).
@@ -905,7 +911,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       double e = own_energy();
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t c = touched[k];
-        if (local && !m.yields(c) && m.k_s[c] != 0) e += 0.5 * shear_factor(m, c) * m.k_s[c] * m.u_s[c] * m.u_s[c];
+        if (local && !m.yields(c) && m.ks(c) != 0) e += 0.5 * shear_factor(m, c) * m.ks(c) * m.u_s[c] * m.u_s[c];
       }
       for (std::size_t i : disks) {
         if (hoop) e += hoop_energy(m, i);
@@ -972,11 +978,11 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       for (std::size_t k = 0; k < count && local; ++k) {
         const std::size_t c = touched[k];
         m.u_s[c] = local_shear(m, c);  // plastic springs keep their force: only the measure moves
-        if (!m.yields(c)) m.f_s[c] = shear_factor(m, c) * m.k_s[c] * m.u_s[c];
+        if (!m.yields(c)) m.f_s[c] = shear_factor(m, c) * m.ks(c) * m.u_s[c];
       }
       if (starts_cracking && local) {
         m.u_s[b] = local_shear(m, b);
-        m.f_s[b] = m.k_s[b] * m.u_s[b];
+        m.f_s[b] = m.ks(b) * m.u_s[b];
       }
       // J2 disks keep their plastic strain; the stress that the next plastic increment's work
       // starts from is the one after the break.

@@ -94,8 +94,20 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.bi = lat.bond_i;
   m.bj = lat.bond_j;
   m.bond_class = lat.bond_class;
-  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.k_n, &m.k_s, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
+  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
     v->assign(nb, 0.0);
+  }
+  // Spring stiffnesses once per kind (body, bond class, edge) where w is uniform (plane
+  // geometries, and at most 256 kinds); per bond where it is the ring radius.
+  const std::size_t kinds = 4 * materials.size();
+  const bool per_kind = !axisym && kinds <= 256;
+  if (per_kind) {
+    m.spring_kind.assign(nb, 0);
+    m.kind_k_n.assign(kinds, 0.0);
+    m.kind_k_s.assign(kinds, 0.0);
+  } else {
+    m.k_n.assign(nb, 0.0);
+    m.k_s.assign(nb, 0.0);
   }
   bool plastic_springs = false, breakable = false;
   for (const BodyMaterial& bm : materials) {
@@ -187,8 +199,16 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     }
     const double w = (axisym ? ring : thickness) * (lat.bond_on_edge[b] ? 0.5 : 1.0);
     const bool axis_class = m.bond_class[b] == 1;
-    m.k_n[b] = (axis_class ? K.kn1 : K.kn2) * w;
-    m.k_s[b] = (axis_class ? K.ks1 : K.ks2) * w;
+    const double kn = (axis_class ? K.kn1 : K.kn2) * w, ks = (axis_class ? K.ks1 : K.ks2) * w;
+    if (per_kind) {
+      const auto kind = static_cast<std::size_t>(4 * m.body[i] + 2 * (axis_class ? 1 : 0) + (lat.bond_on_edge[b] ? 1 : 0));
+      m.spring_kind[b] = static_cast<std::uint8_t>(kind);
+      m.kind_k_n[kind] = kn;  // the same value for every bond of the kind
+      m.kind_k_s[kind] = ks;
+    } else {
+      m.k_n[b] = kn;
+      m.k_s[b] = ks;
+    }
     if (!m.len_prev.empty()) m.len_prev[b] = m.rest_length[b];
     // Strengths and yield forces act on the bond's section 2r w (Eq. 19, physics.md 7).
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
@@ -205,8 +225,8 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
       // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
       const double ratio = bm.material->tangent_modulus / bm.material->E;
       m.f_yield[b] = bm.material->yield_stress * section;
-      m.kh_n[b] = m.k_n[b] * ratio;
-      m.kh_s[b] = m.k_s[b] * ratio;
+      m.kh_n[b] = kn * ratio;
+      m.kh_s[b] = ks * ratio;
       m.any_plastic = true;
     }
     ++m.initial_bonds[i];

@@ -72,7 +72,7 @@ void check_break(const std::string& angle) {
       b = k;
   ASSERT_LT(b, m.num_bonds());
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-  const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] + 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+  const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
   ASSERT_GT(m.f_n[b], 0.0) << "the bond is stretched: its contact carries no force";
   const double eps_i[3] = {m.eps_xx[i], m.eps_yy[i], m.eps_xy[i]}, eps_j[3] = {m.eps_xx[j], m.eps_yy[j], m.eps_xy[j]};
   const double before = elastic_energy(m);
@@ -116,7 +116,7 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
   int broken = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && broken < 5; ++k, ++broken) {
     const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-    const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] + 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b];
+    const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
     const bool stretched_now = m.f_n[b] > 0;
     const double eps[3] = {m.eps_xx[i], m.eps_yy[i], m.eps_xy[i]};
     const double before = elastic_energy(m);

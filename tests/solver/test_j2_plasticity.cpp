@@ -339,7 +339,7 @@ AffineEnergy affine_energy(Geometry g, const Tensor& eps, const Tensor& p) {
     double w = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = static_cast<std::size_t>(m.adj_bond[k]);
-      w += 0.5 * (0.5 * m.f_n[b] * m.f_n[b] / m.k_n[b] + 0.5 * m.f_s[b] * m.f_s[b] / m.k_s[b]);
+      w += 0.5 * (0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b));
     }
     if (axisym) {  // the hoop term: psi(eps) less its plane-strain part
       Tensor in_plane = ei;

@@ -114,7 +114,13 @@ struct Model {
   std::vector<double> ax, ay;          ///< reference bond vector x0[j] - x0[i] [m]
   std::vector<double> rest_length;     ///< |a| [m]
   std::vector<double> g_xx, g_yy, g_xy;  ///< (|a|/2) sym(s0 (x) n0): u_s = g : (eps_i + eps_j) [m]
-  std::vector<double> k_n, k_s;        ///< spring stiffness [N/m] (includes w)
+  /// Spring stiffnesses [N/m] (include w), read through kn(b) and ks(b): per bond in
+  /// axisymmetric models (w is the bond's ring radius), otherwise once per spring kind (body,
+  /// bond class, edge bond or not), with the bond's kind in spring_kind; the other form is
+  /// empty.
+  std::vector<double> k_n, k_s;
+  std::vector<std::uint8_t> spring_kind;
+  std::vector<double> kind_k_n, kind_k_s;
   std::vector<double> f_n, f_s;        ///< normal and shear force [N], tension positive
   std::vector<double> nx, ny;          ///< current unit vector from bi to bj
   std::vector<double> u_s;             ///< local-strain shear displacement [m]
@@ -206,6 +212,8 @@ struct Model {
   [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
   /// Intact and not cracking: the bond enters its disks' strain fits.
   [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracking[b]); }
+  [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
+  [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
   /// Bond b has bilinear hardening springs (Eq. 16); the arrays exist only if some do.
   [[nodiscard]] bool yields(std::size_t b) const { return !f_yield.empty() && f_yield[b] > 0; }
