@@ -72,7 +72,6 @@ void visit_model(M& m, V& v) {
   v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);
   // bonds
   v.state("bi", m.bi); v.state("bj", m.bj);
-  v.state("ax", m.ax); v.state("ay", m.ay);
   v.state("rest_length", m.rest_length);
   v.state("g_xx", m.g_xx); v.state("g_yy", m.g_yy); v.state("g_xy", m.g_xy);
   v.state("k_n", m.k_n); v.state("k_s", m.k_s);

@@ -519,8 +519,9 @@ void bond_forces(Model& m, double dt) {
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-    const double dx = m.ax[b] + (m.ux[j] - m.ux[i]);
-    const double dy = m.ay[b] + (m.uy[j] - m.uy[i]);
+    // The reference vector plus the relative displacement: no cancellation of the positions.
+    const double dx = (m.x0[j] - m.x0[i]) + (m.ux[j] - m.ux[i]);
+    const double dy = (m.y0[j] - m.y0[i]) + (m.uy[j] - m.uy[i]);
     const double len = std::sqrt(dx * dx + dy * dy);
     const double nx = dx / len, ny = dy / len;
     m.nx[b] = nx;
@@ -844,7 +845,7 @@ HalfStep own_half_step(const Model& m, std::size_t b, double dt, bool local) {
   if (dt == 0) return {};
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
   const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
-  const double dx = m.ax[b] + (m.ux[j] - m.ux[i]) - dt * dvx, dy = m.ay[b] + (m.uy[j] - m.uy[i]) - dt * dvy;
+  const double dx = (m.x0[j] - m.x0[i]) + (m.ux[j] - m.ux[i]) - dt * dvx, dy = (m.y0[j] - m.y0[i]) + (m.uy[j] - m.uy[i]) - dt * dvy;
   const double d_delta = m.len_prev[b] - std::sqrt(dx * dx + dy * dy);
   double d_us = 0.0;
   if (!local) {

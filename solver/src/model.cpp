@@ -94,7 +94,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.bi = lat.bond_i;
   m.bj = lat.bond_j;
   m.bond_class = lat.bond_class;
-  for (auto* v : {&m.ax, &m.ay, &m.rest_length, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
+  for (auto* v : {&m.rest_length, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
     v->assign(nb, 0.0);
   }
   // Spring stiffnesses once per kind (body, bond class, edge) where w is uniform (plane
@@ -172,11 +172,10 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-    m.ax[b] = m.x0[j] - m.x0[i];
-    m.ay[b] = m.y0[j] - m.y0[i];
-    m.rest_length[b] = std::hypot(m.ax[b], m.ay[b]);
-    m.nx[b] = m.ax[b] / m.rest_length[b];
-    m.ny[b] = m.ay[b] / m.rest_length[b];
+    const double ax = m.x0[j] - m.x0[i], ay = m.y0[j] - m.y0[i];  // Model::ref_ax, ref_ay
+    m.rest_length[b] = std::hypot(ax, ay);
+    m.nx[b] = ax / m.rest_length[b];
+    m.ny[b] = ay / m.rest_length[b];
     if (m.uses_strains) {
       const double sx = -m.ny[b], sy = m.nx[b], half = 0.5 * m.rest_length[b];
       m.g_xx[b] = half * sx * m.nx[b];
@@ -256,10 +255,10 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     if (m.uses_strains) {
       m.adj_other[pi] = j;
       m.adj_other[pj] = i;
-      m.adj_ax[pi] = m.ax[b];
-      m.adj_ay[pi] = m.ay[b];
-      m.adj_ax[pj] = -m.ax[b];
-      m.adj_ay[pj] = -m.ay[b];
+      m.adj_ax[pi] = m.ref_ax(b);
+      m.adj_ay[pi] = m.ref_ay(b);
+      m.adj_ax[pj] = -m.ref_ax(b);
+      m.adj_ay[pj] = -m.ref_ay(b);
     }
   }
   if (m.any_breakable) {

@@ -52,8 +52,8 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
     const RandomField& r = *case_.random;
     std::vector<double> mx(model_.num_bonds()), my(model_.num_bonds());
     for (std::size_t b = 0; b < model_.num_bonds(); ++b) {
-      mx[b] = model_.x0[model_.bi[b]] + 0.5 * model_.ax[b];
-      my[b] = model_.y0[model_.bi[b]] + 0.5 * model_.ay[b];
+      mx[b] = model_.x0[model_.bi[b]] + 0.5 * model_.ref_ax(b);
+      my[b] = model_.y0[model_.bi[b]] + 0.5 * model_.ref_ay(b);
     }
     model_.strength_scale = lognormal_field(mx, my, r.seed, r.correlation_length, r.strength_cov);
     if (!model_.hoop_damage.empty())

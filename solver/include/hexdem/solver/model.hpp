@@ -111,7 +111,6 @@ struct Model {
 
   // ---- bonds --------------------------------------------------------------------------
   std::vector<std::int32_t> bi, bj;    ///< disk indices, bi < bj
-  std::vector<double> ax, ay;          ///< reference bond vector x0[j] - x0[i] [m]
   std::vector<double> rest_length;     ///< |a| [m]
   std::vector<double> g_xx, g_yy, g_xy;  ///< (|a|/2) sym(s0 (x) n0): u_s = g : (eps_i + eps_j) [m]
   /// Spring stiffnesses [N/m] (include w), read through kn(b) and ks(b): per bond in
@@ -212,6 +211,9 @@ struct Model {
   [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
   /// Intact and not cracking: the bond enters its disks' strain fits.
   [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracking[b]); }
+  /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
+  [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
+  [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
