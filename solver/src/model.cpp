@@ -5,29 +5,26 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <type_traits>
+#include <utility>
 
 #include "hexdem/error.hpp"
 
 namespace hexdem::solver {
+namespace {
 
-Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickness,
-                  ShearModel shear_model, const std::vector<BodyMaterial>& materials) {
+/// The model from the lattice's other arrays, with its disk and bond arrays already in m (the
+/// centres, radii, cell areas, kinds, bodies, materials, bond ends and classes: copied or taken).
+Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thickness, ShearModel shear_model,
+            const std::vector<BodyMaterial>& materials) {
   const bool axisym = geometry == Geometry::Axisymmetric;
   HEXDEM_VERIFY(axisym == (lat.mode == meshing::GeometryMode::Axisymmetric),
                 "lattice and case disagree on axisymmetry");
-  Model m;
   m.geometry = geometry;
   m.shear_model = shear_model;
   m.thickness = thickness;
 
-  const std::size_t n = lat.num_disks();
-  m.x0 = lat.x;
-  m.y0 = lat.y;
-  m.radius = lat.radius;
-  m.cell_area = lat.cell_area;
-  m.kind = lat.kind;
-  m.body = lat.body;
-  m.material = lat.material;
+  const std::size_t n = m.x0.size();
   // Arrays of the features a case uses only (docs/benchmarks.md, "Memory"): the surface
   // loads' forces and lever arms and the mirror springs are allocated by the Solver when the case has
   // them, the local-strain arrays below when some term needs the disks' strains, and the
@@ -90,10 +87,7 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
 
   // Bonds: Eqs. 12-14 per unit thickness, times the thickness or, in axisymmetric mode, the
   // bond midpoint's distance from the axis (Eq. 15).
-  const std::size_t nb = lat.num_bonds();
-  m.bi = lat.bond_i;
-  m.bj = lat.bond_j;
-  m.bond_class = lat.bond_class;
+  const std::size_t nb = m.bi.size();
   for (auto* v : {&m.rest_length, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
     v->assign(nb, 0.0);
   }
@@ -283,6 +277,44 @@ Model build_model(const meshing::Lattice& lat, Geometry geometry, double thickne
     }
   }
   return m;
+}
+
+/// Moves (Take) or copies the lattice's disk and bond arrays into a model.
+template <bool Take, class L>
+Model disk_and_bond_arrays(L& lat) {
+  Model m;
+  auto give = [](auto& to, auto& from) {
+    if constexpr (Take) {
+      to = std::move(from);
+      std::remove_reference_t<decltype(from)>().swap(from);
+    } else {
+      to = from;
+    }
+  };
+  give(m.x0, lat.x);
+  give(m.y0, lat.y);
+  give(m.radius, lat.radius);
+  give(m.cell_area, lat.cell_area);
+  give(m.kind, lat.kind);
+  give(m.body, lat.body);
+  give(m.material, lat.material);
+  give(m.bi, lat.bond_i);
+  give(m.bj, lat.bond_j);
+  give(m.bond_class, lat.bond_class);
+  return m;
+}
+
+}  // namespace
+
+Model build_model(const meshing::Lattice& lattice, Geometry geometry, double thickness, ShearModel shear_model,
+                  const std::vector<BodyMaterial>& materials) {
+  return build(lattice, disk_and_bond_arrays<false>(lattice), geometry, thickness, shear_model, materials);
+}
+
+Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thickness, ShearModel shear_model,
+                  const std::vector<BodyMaterial>& materials) {
+  Model m = disk_and_bond_arrays<true>(lattice);
+  return build(lattice, std::move(m), geometry, thickness, shear_model, materials);
 }
 
 void reset_bond_history(Model& m) {

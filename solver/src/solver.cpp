@@ -37,10 +37,11 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   };
   check_symmetry_planes(case_, lattice_);
   setup_materials();
-  model_ = build_model(lattice_, case_.geometry, case_.thickness, case_.shear_model, body_materials_);
-  model_.contact_damping = case_.contact.damping;
-  // From here on the model holds the disks and bonds: keep the lattice's names and sets only.
   lattice_hash_ = hexdem::solver::lattice_hash(lattice_);
+  // The model takes the lattice's disk and bond arrays (no second copy at any time); the
+  // lattice keeps its names and sets, and the arrays only the build needs are released.
+  model_ = build_model(std::move(lattice_), case_.geometry, case_.thickness, case_.shear_model, body_materials_);
+  model_.contact_damping = case_.contact.damping;
   for (auto* v : {&lattice_.x, &lattice_.y, &lattice_.radius, &lattice_.cell_area, &lattice_.cell_cx, &lattice_.cell_cy,
                   &lattice_.bond_b})
     std::vector<double>().swap(*v);

@@ -51,8 +51,9 @@ double Solver::finite_omega2_max(int max_iterations) {
   }
   double r_min = std::numeric_limits<double>::infinity();
   for (double r : m.radius) r_min = std::min(r_min, r);
-  // y = A v, through displacements small enough (1e-6 r) for the kernel to be linear.
-  auto apply = [&](const std::vector<double>& v, std::vector<double>& y) {
+  // A v, through displacements small enough (1e-6 r) for the kernel to be linear: probe(v)
+  // leaves the forces in fx, fy, torque and returns the scale eps; (A v)_k is then y(i, c).
+  auto probe = [&](const std::vector<double>& v) {
     double umax = 0;  // a maximum: the same in any order
 #pragma omp parallel for schedule(static) reduction(max : umax)
     for (std::ptrdiff_t i = 0; i < ni; ++i) {
@@ -71,15 +72,14 @@ double Solver::finite_omega2_max(int max_iterations) {
     }
     reset_bond_history(m);  // every spring starts from zero: its increment is the probe
     compute_internal_forces(m, 1.0);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < ni; ++i) {
-      double* yi = y.data() + dofs * static_cast<std::size_t>(i);
-      yi[0] = -m.fx[i] / eps * sx[i];
-      yi[1] = -m.fy[i] / eps * sy[i];
-      if (spins) yi[2] = -m.torque[i] / eps * sw[i];
-    }
+    return eps;
   };
-  std::vector<double> v(n * dofs), v_prev(n * dofs, 0.0), w(n * dofs);
+  const auto y = [&](std::size_t i, std::size_t c, double eps) {
+    return c == 0 ? -m.fx[i] / eps * sx[i] : c == 1 ? -m.fy[i] / eps * sy[i] : -m.torque[i] / eps * sw[i];
+  };
+  // Two vectors: v, and u, which holds the previous v and then, in place, the new residual
+  // w = A v - a v - b v_prev (A v is read from the forces, not stored).
+  std::vector<double> v(n * dofs), u(n * dofs, 0.0);
   const auto nk = static_cast<std::ptrdiff_t>(v.size());
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -97,15 +97,20 @@ double Solver::finite_omega2_max(int max_iterations) {
     double beta_prev = 0, lambda_prev = 0;
     for (int it = 0; it < max_iterations; ++it) {
       dt_info_.finite_iterations = it + 1;
-      apply(v, w);
+      const double eps = probe(v);
       // The dot products in index order (the estimate, and so the step, do not depend on
       // the thread count); the vector updates in parallel.
       double a = 0;
-      for (std::size_t k = 0; k < w.size(); ++k) a += v[k] * w[k];
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < dofs; ++c) a += v[dofs * i + c] * y(i, c, eps);
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t k = 0; k < nk; ++k) w[k] -= a * v[k] + beta_prev * v_prev[k];
+      for (std::ptrdiff_t i = 0; i < ni; ++i)
+        for (std::size_t c = 0; c < dofs; ++c) {
+          const std::size_t k = dofs * static_cast<std::size_t>(i) + c;
+          u[k] = y(static_cast<std::size_t>(i), c, eps) - (a * v[k] + beta_prev * u[k]);
+        }
       double b2 = 0;
-      for (std::size_t k = 0; k < w.size(); ++k) b2 += w[k] * w[k];
+      for (std::size_t k = 0; k < u.size(); ++k) b2 += u[k] * u[k];
       alpha.push_back(a);
       const double b = std::sqrt(b2);
       if ((it + 1) % 10 == 0 || b == 0 || it + 1 == max_iterations) {
@@ -120,8 +125,9 @@ double Solver::finite_omega2_max(int max_iterations) {
       beta.push_back(b);
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t k = 0; k < nk; ++k) {
-        v_prev[k] = v[k];
-        v[k] = w[k] / b;
+        const double next = u[k] / b;  // v_prev <- v, v <- w / b
+        u[k] = v[k];
+        v[k] = next;
       }
       beta_prev = b;
     }

@@ -238,6 +238,11 @@ struct BodyMaterial {
 /// body's material.
 Model build_model(const meshing::Lattice& lattice, Geometry geometry, double thickness,
                   ShearModel shear_model, const std::vector<BodyMaterial>& materials);
+/// The same, taking the lattice's disk and bond arrays (centres, radii, cell areas, kinds,
+/// bodies, materials, bond ends and classes) instead of copying them: the lattice keeps its
+/// names, sets and the arrays the model does not hold.
+Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thickness,
+                  ShearModel shear_model, const std::vector<BodyMaterial>& materials);
 
 /// Recomputes the local-strain matrices (inverse of sum a a^T over intact bonds) of all disks.
 void update_strain_matrices(Model& m);
