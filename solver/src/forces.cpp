@@ -370,26 +370,6 @@ inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f
 /// No tensile strength to check (a closing bond does not start to crack).
 constexpr double kNoTension = std::numeric_limits<double>::infinity();
 
-/// Whether the continuum criteria of softening_bond can fire at the static strengths (the
-/// rate factors only raise them): Rankine s1 > f_t and Mohr-Coulomb on (max(s1, s3),
-/// min(s2, s3)), with s1, s2 bracketed by one square root instead of the principal values'
-/// hypot (the pass's most expensive call). False only where the exact test is certain to
-/// find nothing: the bracket is wider than hypot's rounding by far (1e-12), so the bonds near
-/// a criterion take the exact path and the results do not change by one bit.
-inline bool near_a_criterion(double sxx, double syy, double sxy, double s3, double f_t,
-                             const laws::StressMohrCoulomb& mc, double scale) {
-  const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
-  const double r2 = d * d + sxy * sxy;
-  if (!(r2 > 1e-280) || !(r2 < 1e280)) return true;  // under- or overflow: the exact test decides
-  const double r = std::sqrt(r2) * (1 + 1e-12);       // >= hypot(d, sxy)
-  const double s1 = c + r, s2 = c - r;
-  if (s1 > f_t) return true;
-  const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
-  if (s_min <= -mc.f_c * scale) return true;
-  const double lhs = 0.5 * (s_max - s_min), rhs = mc.c * scale * mc.cos_phi - 0.5 * (s_max + s_min) * mc.sin_phi;
-  const double slack = 1e-12 * (std::abs(s_max) + std::abs(s_min) + std::abs(mc.c * scale));
-  return lhs >= rhs - slack;
-}
 
 /// Pass B for a bond of a softening material (docs/model.md, "Fracture energy and
 /// softening"); the shear measure u_s is already updated (rotation model: accumulated).
@@ -479,7 +459,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
   const double s3 = m.geometry == Geometry::PlaneStress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
-  if (!near_a_criterion(sxx, syy, sxy, s3, delta > 0 ? law.f_t * scale : kNoTension, sp.mc, scale)) return;
+  if (!laws::near_a_criterion(sxx, syy, sxy, s3, delta > 0 ? law.f_t * scale : kNoTension, sp.mc, scale)) return;
   const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
   if (delta > 0 && p.s1 > law.f_t * scale) {
     const double f_t = law.f_t * rate_factors().tension * scale;

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -60,6 +62,66 @@ TEST(StressMohrCoulomb, UniaxialCompressionFailsAtTwoCCosPhiOverOneMinusSinPhi) 
   EXPECT_EQ(mc.mode(0.0, -1.001 * fc, 1.0), 2);
   EXPECT_EQ(mc.mode(0.0, -61e6, 1.0), 3);  // crushing
   EXPECT_EQ(mc.mode(3e6, 0.0, 1.0), 0);    // uniaxial tension is left to the Rankine check
+}
+
+/// The exact continuum test of the softening pass: Rankine on s1, then Mohr-Coulomb on the
+/// principal stresses with the out-of-plane one.
+bool exact_criterion(double sxx, double syy, double sxy, double s3, double f_t, const laws::StressMohrCoulomb& mc) {
+  const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
+  if (p.s1 > f_t) return true;
+  return mc.mode(std::max(p.s1, s3), std::min(p.s2, s3), 1.0) != 0;
+}
+
+TEST(NearACriterion, NeverMissesAStateTheExactTestFindsEvenOnTheBoundary) {
+  // Concrete-like strengths; random stress directions (sxx, syy, sxy, s3), each scaled by
+  // bisection to the last double before the exact test fires and the first after: the filter
+  // must pass every state the exact test finds, including the first one past the boundary.
+  const double phi = 30 * M_PI / 180;
+  const laws::StressMohrCoulomb mc{6e6, std::sin(phi), std::cos(phi), 30e6};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  int fired = 0, filtered = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double dir[4] = {uni(rng), uni(rng), uni(rng), k % 3 == 0 ? 0.0 : uni(rng)};
+    const double f_t = k % 5 == 0 ? std::numeric_limits<double>::infinity() : 3e6;  // closing bonds: no tension check
+    auto at = [&](double s) { return exact_criterion(s * dir[0], s * dir[1], s * dir[2], s * dir[3], f_t, mc); };
+    auto near = [&](double s) {
+      return laws::near_a_criterion(s * dir[0], s * dir[1], s * dir[2], s * dir[3], f_t, mc, 1.0);
+    };
+    double lo = 0, hi = 1e9;  // the exact test fires at 1e9 Pa in every direction
+    ASSERT_TRUE(at(hi));
+    for (int it = 0; it < 200 && std::nextafter(lo, hi) < hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (at(mid) ? hi : lo) = mid;
+    }
+    ASSERT_TRUE(at(hi));
+    EXPECT_TRUE(near(hi)) << "missed a failing state at scale " << hi << " (direction " << k << ")";
+    // Random states anywhere between: whatever fires must pass the filter.
+    for (double f : {0.3, 0.9, 0.999, 1.0000001, 1.5, 4.0}) {
+      const bool exact = at(f * hi), pass = near(f * hi);
+      fired += exact;
+      filtered += !pass;
+      if (exact) EXPECT_TRUE(pass) << "direction " << k << ", " << f << " x the boundary";
+    }
+  }
+  // The filter does its job: it rejects most states well inside the criteria (none of those
+  // fire), so the exact principal stresses are computed only near them.
+  EXPECT_GT(fired, 20000);
+  EXPECT_GT(filtered, 30000);
+}
+
+TEST(NearACriterion, RejectsStatesFarInsideAndDefersDegenerateOnesToTheExactTest) {
+  const double phi = 30 * M_PI / 180;
+  const laws::StressMohrCoulomb mc{6e6, std::sin(phi), std::cos(phi), 30e6};
+  EXPECT_FALSE(laws::near_a_criterion(1e5, -2e5, 3e4, 0.0, 3e6, mc, 1.0));
+  EXPECT_FALSE(laws::near_a_criterion(-1e6, -1e6, 1e3, -1e6, 3e6, mc, 1.0));  // hydrostatic pressure
+  EXPECT_TRUE(laws::near_a_criterion(3.1e6, 0.0, 1e4, 0.0, 3e6, mc, 1.0));      // past f_t
+  EXPECT_TRUE(laws::near_a_criterion(0.0, 0.0, 0.0, 0.0, 3e6, mc, 1.0));        // zero deviator: exact path
+  EXPECT_TRUE(laws::near_a_criterion(1e200, 0.0, 1e200, 0.0, 3e6, mc, 1.0));    // overflow of the square
+  // Uniaxial compression 25 MPa: past 2 c cos(phi) / (1 - sin(phi)) = 20.8 MPa, inside it
+  // when a random strength factor doubles the strengths.
+  EXPECT_TRUE(laws::near_a_criterion(0.0, -25e6, 0.0, 0.0, 3e6, mc, 1.0));
+  EXPECT_FALSE(laws::near_a_criterion(0.0, -25e6, 0.0, 0.0, 6e6, mc, 2.0));
 }
 
 // ---- runs ---------------------------------------------------------------------------------

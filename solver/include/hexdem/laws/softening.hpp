@@ -16,6 +16,7 @@
 /// Refs: Hillerborg, Modeer, Petersson (1976) for the fictitious crack; Bolander and Saito
 /// (1998) and Grassl and Jirasek (2010) for lattice models with crack-opening softening.
 
+#include <algorithm>
 #include <cmath>
 
 namespace hexdem::laws {
@@ -83,5 +84,27 @@ struct StressMohrCoulomb {
     return 0;
   }
 };
+
+/// Whether the continuum criteria can fire on the stress (sxx, syy, sxy) with out-of-plane
+/// principal stress s3 [Pa]: Rankine s1 > f_t and Mohr-Coulomb mc.mode(max(s1, s3),
+/// min(s2, s3), scale) (f_t already scaled; infinite: no tension check), with s1, s2
+/// bracketed by one square root instead of principal_values_2d's hypot (the softening pass's
+/// most expensive call). False only where the exact test is certain to find nothing: the
+/// bracket is wider than hypot's rounding by far (1e-12), so every state near a criterion
+/// takes the exact path and a filtered pass gives the same bits as an unfiltered one.
+[[nodiscard]] inline bool near_a_criterion(double sxx, double syy, double sxy, double s3, double f_t,
+                                           const StressMohrCoulomb& mc, double scale) {
+  const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+  const double r2 = d * d + sxy * sxy;
+  if (!(r2 > 1e-280) || !(r2 < 1e280)) return true;  // under- or overflow: the exact test decides
+  const double r = std::sqrt(r2) * (1 + 1e-12);       // >= hypot(d, sxy)
+  const double s1 = c + r, s2 = c - r;
+  if (s1 > f_t) return true;
+  const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
+  if (s_min <= -mc.f_c * scale) return true;
+  const double lhs = 0.5 * (s_max - s_min), rhs = mc.c * scale * mc.cos_phi - 0.5 * (s_max + s_min) * mc.sin_phi;
+  const double slack = 1e-12 * (std::abs(s_max) + std::abs(s_min) + std::abs(mc.c * scale));
+  return lhs >= rhs - slack;
+}
 
 }  // namespace hexdem::laws
