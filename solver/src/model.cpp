@@ -256,8 +256,9 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     }
   }
   if (m.any_breakable) {
-    for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy})
-      v->assign(n, 0.0);
+    for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact}) v->assign(n, 0.0);
+    if (m.uses_strains)  // the strain carried across a change of fit
+      for (auto* v : {&m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy}) v->assign(n, 0.0);
     if (axisym) {
       m.hoop_cut.assign(n, 0);
       m.hoop_const.assign(n, 0.0);

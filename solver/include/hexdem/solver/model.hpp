@@ -92,8 +92,8 @@ struct Model {
   /// strain arrays (minv, eps, w, u_s, g, adj_ax/ay) exist only then.
   bool uses_strains = false;
   std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
-  /// Breakable models: the strain carried across changes of a disk's fit, eps = fit(u) -
-  /// eps_off (settle_broken_bonds) [-]; empty otherwise.
+  /// Breakable models with strains: the strain carried across changes of a disk's fit,
+  /// eps = fit(u) - eps_off (settle_broken_bonds) [-]; empty otherwise.
   std::vector<double> eps_off_xx, eps_off_yy, eps_off_xy;
   /// Breakable axisymmetric models: 1 once the disk has lost a neighbour (its hoop term keeps
   /// only the square of the hoop stress), and the constant that kept its energy continuous
