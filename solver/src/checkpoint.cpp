@@ -94,8 +94,8 @@ void visit_model(M& m, V& v) {
   v.state("alpha_n", m.alpha_n); v.state("alpha_s", m.alpha_s);
   v.state("len_prev", m.len_prev);
   v.state("section", m.section);
-  v.state("mu", m.mu);
-  v.state("failure_law", m.failure_law);
+  v.rebuilt("body_mu", m.body_mu);  // per body, from the materials
+  v.rebuilt("body_failure_law", m.body_failure_law);
   v.rebuilt("failure_laws", m.failure_laws);
   v.state("failure_tan_phi", m.failure_tan_phi);
   v.state("plastic_work", m.plastic_work);

@@ -336,7 +336,7 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
   const double delta = m.radius[i] + m.radius[j] - len;
   const double du_s =
       dt_shear * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-  const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.mu[b],
+  const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.bond_mu(b),
                                 m.contact_damping};
   const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
   laws::ContactState cs{m.f_n[b], m.f_s[b], m.f_damp[b]};
@@ -384,7 +384,7 @@ constexpr double kNoTension = std::numeric_limits<double>::infinity();
 /// bond criterion of Eq. 19.
 void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_s, double dt) {
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-  const auto l = static_cast<std::size_t>(m.failure_law[b]);
+  const auto l = static_cast<std::size_t>(m.bond_failure_law(b));
   const SofteningParams& sp = m.softening[l];
   const double delta = len - m.rest_length[b];
   const double us = m.u_s[b];
@@ -436,7 +436,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // (Eq. 19 on the bond's own forces instead) made a rotated bar's crack dissipate 0.86 G_F A.
   const bool full_i = m.strain_ok[i] && m.initial_bonds[i] == 6, full_j = m.strain_ok[j] && m.initial_bonds[j] == 6;
   if (!full_i && !full_j) {
-    const double sec = m.section[b] * scale;
+    const double sec = m.bond_section(b) * scale;
     if (laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec)) == laws::FailureMode::None)
       return;  // holds at the static strengths, so at the dynamic ones
     const laws::BondStrength st = bond_strength(m, l, rate_factors(), sec);
@@ -527,7 +527,8 @@ void bond_forces(Model& m, double dt) {
     double du_n = 0.0;  // the stretch over the last step (hardening, softening, strain rate)
     if constexpr (Plastic || Breakable) du_n = len - m.len_prev[b];
     if constexpr (Softening) {
-      if (m.failure_law[b] >= 0 && m.softening[static_cast<std::size_t>(m.failure_law[b])].G_F > 0) {
+      const std::int32_t law_b = m.body_failure_law[static_cast<std::size_t>(m.body[i])];  // Model::bond_failure_law
+      if (law_b >= 0 && m.softening[static_cast<std::size_t>(law_b)].G_F > 0) {
         // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
         if constexpr (Rotation) m.u_s[b] += du_s;
         softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
@@ -570,13 +571,14 @@ void bond_forces(Model& m, double dt) {
     }
     if constexpr (Plastic || Breakable) m.len_prev[b] = len;
     if constexpr (Breakable) {
-      if (m.failure_law[b] >= 0) {
+      const std::int32_t law_b = m.body_failure_law[static_cast<std::size_t>(m.body[i])];  // Model::bond_failure_law
+      if (law_b >= 0) {
         // Eqs. 17, 19, 20: the strengths of the bond's section, with the rate factors of the
         // bond's strain rate over the last step. The factors are >= 1 and only raise the
         // strengths, so a bond that holds at its static strengths holds: they (two logarithms)
         // are computed only for the bonds that do not.
-        const auto l = static_cast<std::size_t>(m.failure_law[b]);
-        const double sec = m.section[b] * m.strength_factor(static_cast<std::size_t>(b));
+        const auto l = static_cast<std::size_t>(law_b);
+        const double sec = m.bond_section(b) * m.strength_factor(static_cast<std::size_t>(b));
         laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec));
         const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
         if (mode != laws::FailureMode::None && edot > 1.0) {

@@ -114,10 +114,16 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (plastic_springs)
     for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.plastic_work}) v->assign(nb, 0.0);
   if (breakable) {
-    for (auto* v : {&m.section, &m.mu, &m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic,
-                    &m.f_damp})
+    for (auto* v : {&m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic, &m.f_damp})
       v->assign(nb, 0.0);
-    m.failure_law.assign(nb, -1);
+    // Per bond where the springs are (axisymmetric); otherwise recomputed (Model::bond_section).
+    if (m.spring_kind.empty()) m.section.assign(nb, 0.0);
+    m.body_mu.assign(materials.size(), 0.0);
+    m.body_failure_law.assign(materials.size(), -1);
+    for (std::size_t k = 0; k < materials.size(); ++k) {
+      m.body_mu[k] = materials[k].material->friction;
+      if (materials[k].material->breakable) m.body_failure_law[k] = static_cast<std::int32_t>(k);
+    }
     m.newly_broken.assign(nb, 0);
     m.break_time.assign(nb, -1.0);
   }
@@ -206,14 +212,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     // Strengths and yield forces act on the bond's section 2r w (Eq. 19, physics.md 7).
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
     const double section = 2.0 * m.radius[i] * w;
-    if (breakable) {
-      m.section[b] = section;
-      m.mu[b] = bm.material->friction;
-    }
-    if (bm.material->breakable) {
-      m.failure_law[b] = m.body[i];
-      m.any_breakable = true;
-    }
+    if (!m.section.empty()) m.section[b] = section;
+    if (bm.material->breakable) m.any_breakable = true;
     if (bm.material->plastic() && !bm.j2) {
       // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
       const double ratio = bm.material->tangent_modulus / bm.material->E;

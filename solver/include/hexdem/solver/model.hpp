@@ -139,9 +139,15 @@ struct Model {
   std::vector<double> kh_n, kh_s;        ///< hardening stiffnesses [N/m]
   std::vector<double> alpha_n, alpha_s;  ///< back-forces of the normal and shear springs [N]
   std::vector<double> len_prev;          ///< length at the previous force evaluation [m]
-  std::vector<double> section;           ///< 2r w: strength = stress x section [m^2]
-  std::vector<double> mu;                ///< contact friction coefficient [-]
-  std::vector<std::int32_t> failure_law; ///< index into failure_laws, -1: unbreakable
+  /// Bond section 2r w [m^2] (strength = stress x section), read through bond_section(b):
+  /// stored per bond in axisymmetric models (w: the ring radius), recomputed from the disk's
+  /// radius and the spring kind's edge flag in plane ones (empty).
+  std::vector<double> section;
+  /// Per body: the contact friction coefficient [-] and the index into failure_laws (-1:
+  /// unbreakable) of its bonds (a bond joins two disks of one body): bond_mu(b),
+  /// bond_failure_law(b).
+  std::vector<double> body_mu;
+  std::vector<std::int32_t> body_failure_law;
   std::vector<laws::MohrCoulombFailure> failure_laws;
   std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
   // Cumulative energies per bond [J], summed only when reported (deterministic).
@@ -214,6 +220,15 @@ struct Model {
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
+  [[nodiscard]] double bond_section(std::size_t b) const {
+    if (!section.empty()) return section[b];
+    const double w = thickness * ((spring_kind[b] & 1) ? 0.5 : 1.0);  // an edge bond has half a section
+    return 2.0 * radius[static_cast<std::size_t>(bi[b])] * w;
+  }
+  [[nodiscard]] double bond_mu(std::size_t b) const { return body_mu[static_cast<std::size_t>(body[static_cast<std::size_t>(bi[b])])]; }
+  [[nodiscard]] std::int32_t bond_failure_law(std::size_t b) const {
+    return body_failure_law[static_cast<std::size_t>(body[static_cast<std::size_t>(bi[b])])];
+  }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
