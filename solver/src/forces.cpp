@@ -580,10 +580,12 @@ void bond_forces(Model& m, double dt) {
         const auto l = static_cast<std::size_t>(law_b);
         const double sec = m.bond_section(b) * m.strength_factor(static_cast<std::size_t>(b));
         laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec));
-        const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
-        if (mode != laws::FailureMode::None && edot > 1.0) {
-          const laws::RateFactors rf = m.failure_laws[l].rate_factors(edot);
-          mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, rf, sec));
+        if (mode != laws::FailureMode::None) {  // the strain rate (a division) only then
+          const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+          if (edot > 1.0) {
+            const laws::RateFactors rf = m.failure_laws[l].rate_factors(edot);
+            mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, rf, sec));
+          }
         }
         // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into
         // a contact and books what the break releases.
