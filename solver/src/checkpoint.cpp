@@ -50,14 +50,13 @@ void visit_model(M& m, V& v) {
   v.state("fx", m.fx); v.state("fy", m.fy); v.state("torque", m.torque);
   v.state("fx_ext", m.fx_ext); v.state("fy_ext", m.fy_ext);
   v.state("ext_mxx", m.ext_mxx); v.state("ext_myy", m.ext_myy); v.state("ext_mxy", m.ext_mxy);
-  v.state("mass", m.mass); v.state("inertia", m.inertia);
+  v.state("mass", m.mass);
   v.state("radius", m.radius);
   v.state("cell_area", m.cell_area);
   v.state("weight", m.weight);
   v.state("kind", m.kind);
   v.state("body", m.body); v.state("material", m.material);
   v.state("constraint", m.constraint);
-  v.state("initial_bonds", m.initial_bonds);
   v.state("mirror_plane", m.mirror_plane);
   v.state("wall_kx", m.wall_kx); v.state("wall_ky", m.wall_ky);
   v.state("wall_sx", m.wall_sx); v.state("wall_sy", m.wall_sy);

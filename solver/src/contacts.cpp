@@ -101,7 +101,7 @@ void Solver::contact_forces(double dt) {
     const std::size_t bi = static_cast<std::size_t>(m.body[i]), bj = static_cast<std::size_t>(m.body[j]);
     // Width: the thickness, or (per radian) the mean ring radius of the two disks, as their
     // masses are weighted: a contact stays no stiffer, for its masses, than the bonds are.
-    const double w = axisym ? 0.5 * (m.weight[i] + m.weight[j]) : case_.thickness;
+    const double w = axisym ? 0.5 * (m.disk_weight(i) + m.disk_weight(j)) : case_.thickness;
     const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
     if (!(kn > 0) || !(kt > 0)) continue;  // a contact on the axis carries nothing per radian
@@ -147,7 +147,7 @@ void Solver::wall_forces(double dt) {
       double& fv = wall_fv_[w][i];
       if (delta <= 0 && fn == 0 && fs == 0 && fv == 0) continue;
       const auto b = static_cast<std::size_t>(m.body[i]);
-      const double width = axisym ? m.weight[i] : case_.thickness;
+      const double width = axisym ? m.disk_weight(i) : case_.thickness;
       const double cap = contact_stiffness_cap(m.mass[i]);
       const double mu = wall.friction.value_or(body_materials_[b].material->friction);
       const SpringConstants& K = body_materials_[b].springs;
@@ -180,7 +180,7 @@ double Solver::contact_energy() const {
       // A contact whose force the cut holds at zero still has its spring compressed.
       if (fn == 0 && fs == 0 && wall_fv_[w][i] == 0) continue;
       const auto b = static_cast<std::size_t>(model_.body[i]);
-      const double width = case_.geometry == Geometry::Axisymmetric ? model_.weight[i] : case_.thickness;
+      const double width = case_.geometry == Geometry::Axisymmetric ? model_.disk_weight(i) : case_.thickness;
       const double cap = contact_stiffness_cap(model_.mass[i]);
       const SpringConstants& K = body_materials_[b].springs;
       const Wall& wall = case_.walls[w];
@@ -196,7 +196,7 @@ double Solver::contact_energy() const {
     if (c.f_n == 0 && c.f_s == 0 && c.f_v == 0) continue;
     const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
     const std::size_t bi = static_cast<std::size_t>(model_.body[i]), bj = static_cast<std::size_t>(model_.body[j]);
-    const double w = case_.geometry == Geometry::Axisymmetric ? 0.5 * (model_.weight[i] + model_.weight[j])
+    const double w = case_.geometry == Geometry::Axisymmetric ? 0.5 * (model_.disk_weight(i) + model_.disk_weight(j))
                                                               : case_.thickness;
     const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);

@@ -23,7 +23,7 @@ void Solver::setup_energy_scale() {
   for (const BodyMaterial& bm : body_materials_) c11.push_back(bm.material->stiffness(case_.geometry).c11);
   double e = 0;
   for (std::size_t i = 0; i < model_.num_disks(); ++i)
-    e += 0.5 * c11[static_cast<std::size_t>(model_.body[i])] * kStrain * kStrain * model_.cell_area[i] * model_.weight[i];
+    e += 0.5 * c11[static_cast<std::size_t>(model_.body[i])] * kStrain * kStrain * model_.cell_area[i] * model_.disk_weight(i);
   energy_.scale = e;
 }
 

@@ -74,7 +74,7 @@ inline double local_shear(const Model& m, std::size_t b) {
 
 /// Hoop strain u_r / b of disk i (axisymmetric; 0 in plane geometries).
 inline double hoop_strain(const Model& m, std::size_t i) {
-  return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.weight[i] : 0.0;
+  return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.disk_weight(i) : 0.0;
 }
 
 /// Axisymmetric hoop term of disk i: A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt
@@ -92,10 +92,10 @@ double hoop_energy(const Model& m, std::size_t i) {
     // A disk that has lost a neighbour: the hoop stress's square only (see hoop_stress).
     const double M = lam + 2 * mu, s = M * eps_tt + lam * tr;
     const double g = !m.hoop_damage.empty() && s > 0 ? 1 - m.hoop_damage[i] : 1.0;
-    return m.cell_area[i] * m.weight[i] * g * s * s / (2 * M) - m.hoop_const[i];
+    return m.cell_area[i] * m.disk_weight(i) * g * s * s / (2 * M) - m.hoop_const[i];
   }
   const double g = !m.hoop_damage.empty() && eps_tt > 0 ? 1 - m.hoop_damage[i] : 1.0;
-  return g * m.cell_area[i] * m.weight[i] * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
+  return g * m.cell_area[i] * m.disk_weight(i) * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
 }
 
 /// Hoop stress sigma_tt of disk i [Pa] (without a J2 disk's plastic part) and the hoop term's
@@ -140,7 +140,7 @@ void update_hoop_damage(Model& m) {
       const double f_t = m.failure_laws[static_cast<std::size_t>(m.body[i])].f_t *
                          (m.disk_strength_scale.empty() ? 1.0 : m.disk_strength_scale[i]);
       if (!(s > f_t)) continue;
-      const double h = 2 * 3.14159265358979323846 * m.weight[i] / sp.radial_cracks;
+      const double h = 2 * 3.14159265358979323846 * m.disk_weight(i) / sp.radial_cracks;
       m.hoop_e0[i] = e;
       m.hoop_ef[i] = std::max(2 * sp.G_F / (h * f_t), e);
       m.hoop_kappa[i] = e;
@@ -152,12 +152,12 @@ void update_hoop_damage(Model& m) {
       // dD (E_h - half step of the force drop), the half step taken as for the bonds).
       const double eps_tt = hoop_strain(m, i), tr = m.eps_xx[i] + m.eps_yy[i];
       const bool cut = !m.hoop_cut.empty() && m.hoop_cut[i];
-      const double eh = cut ? m.cell_area[i] * m.weight[i] * s * s / (2 * M)
-                            : m.cell_area[i] * m.weight[i] * eps_tt * (0.5 * M * eps_tt + lam * tr);
+      const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
+                            : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
       if (d > m.hoop_damage[i] && (cut || eps_tt > 0) && eh > 0) {
         // The half step, A b (s d(eps_tt) + lambda eps_tt d(tr)) / 2, is taken as A b s d(s/M) / 2
         // with the driver of the last step (the hoop share of the in-plane force is small).
-        const double half = 0.5 * m.cell_area[i] * m.weight[i] * s * (e - e_last);
+        const double half = 0.5 * m.cell_area[i] * m.disk_weight(i) * s * (e - e_last);
         const double released = (d - m.hoop_damage[i]) * (eh - half);
         m.hoop_fracture[i] += std::max(released, 0.0);
         m.hoop_break_kinetic[i] += std::min(released, 0.0);
@@ -176,7 +176,7 @@ double j2_correction_energy(const Model& m, std::size_t i) {
   const double pxx = m.eps_p_xx[i], pyy = m.eps_p_yy[i], pxy = m.eps_p_xy[i], p33 = m.eps_p_33[i];
   const double pp = pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy;
   const double ep = m.eps_xx[i] * pxx + m.eps_yy[i] * pyy + hoop_strain(m, i) * p33 + 2 * m.eps_xy[i] * pxy;
-  return m.cell_area[i] * m.weight[i] * m.hoop_mu[i] * (pp - 2 * ep);
+  return m.cell_area[i] * m.disk_weight(i) * m.hoop_mu[i] * (pp - 2 * ep);
 }
 
 /// Continuum stress C : (eps - eps_p) of J2 disk i [Pa] (3D isotropic; xy the tensor
@@ -253,7 +253,7 @@ void j2_return_mapping(Model& m, std::size_t i) {
   const double xx = m.sig_xx[i], yy = m.sig_yy[i], xy = m.sig_xy[i], s33 = m.sig_33[i];
   store_j2_stress(m, i);
   if (deq > 0) {
-    m.disk_plastic_work[i] += 0.5 * m.cell_area[i] * m.weight[i] *
+    m.disk_plastic_work[i] += 0.5 * m.cell_area[i] * m.disk_weight(i) *
                               ((xx + m.sig_xx[i]) * dxx + (yy + m.sig_yy[i]) * dyy +
                                2 * (xy + m.sig_xy[i]) * dxy + (s33 + m.sig_33[i]) * d33);
   }
@@ -272,7 +272,7 @@ void return_mapping(Model& m) {
 double j2_hardening_energy(const Model& m, std::size_t i) {
   if (!(m.j2_sigma_y[i] > 0)) return 0.0;
   const double pxx = m.eps_p_xx[i], pyy = m.eps_p_yy[i], pxy = m.eps_p_xy[i], p33 = m.eps_p_33[i];
-  return m.cell_area[i] * m.weight[i] * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
+  return m.cell_area[i] * m.disk_weight(i) * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
 }
 
 /// 1 - D of a cracking bond's shear spring, 1 otherwise.
@@ -434,7 +434,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // edge its normal force is the edge-parallel stress.
   // A disk that has lost its fit gives its frozen strain (settle_broken_bonds): excluding it
   // (Eq. 19 on the bond's own forces instead) made a rotated bar's crack dissipate 0.86 G_F A.
-  const bool full_i = m.strain_ok[i] && m.initial_bonds[i] == 6, full_j = m.strain_ok[j] && m.initial_bonds[j] == 6;
+  const bool full_i = m.strain_ok[i] && m.initial_bonds(i) == 6, full_j = m.strain_ok[j] && m.initial_bonds(j) == 6;
   if (!full_i && !full_j) {
     const double sec = m.bond_section(b) * scale;
     if (laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec)) == laws::FailureMode::None)
@@ -633,12 +633,12 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       }
     }
     if (hoop) {
-      const double c = m.cell_area[i] * m.weight[i] * hoop_stress(m, i).in_plane;
+      const double c = m.cell_area[i] * m.disk_weight(i) * hoop_stress(m, i).in_plane;
       sxx += c;
       syy += c;
     }
     if (m.any_j2 && m.j2_sigma_y[i] > 0) {
-      const double c = -2 * m.hoop_mu[i] * m.cell_area[i] * m.weight[i];
+      const double c = -2 * m.hoop_mu[i] * m.cell_area[i] * m.disk_weight(i);
       sxx += c * m.eps_p_xx[i];
       syy += c * m.eps_p_yy[i];
       sxy += c * m.eps_p_xy[i];
@@ -1050,9 +1050,9 @@ Stress disk_stress(const Model& m, std::size_t i) {
     sxx -= m.wall_kx[i] * m.ux[i] * m.wall_sx[i];
     syy -= m.wall_ky[i] * m.uy[i] * m.wall_sy[i];
   }
-  const double scale = m.radius[i] / (m.cell_area[i] * m.weight[i]);
+  const double scale = m.radius[i] / (m.cell_area[i] * m.disk_weight(i));
   // Surface loads act on the disk at their own lever arms.
-  const double ext = 1.0 / (m.cell_area[i] * m.weight[i]);
+  const double ext = 1.0 / (m.cell_area[i] * m.disk_weight(i));
   st.xx = sxx * scale;
   st.yy = syy * scale;
   st.xy = sxy * scale;

@@ -30,12 +30,13 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   // them, the local-strain arrays below when some term needs the disks' strains, and the
   // bonds' plasticity and failure arrays when a material yields or breaks.
   for (auto* v : {&m.ux, &m.uy, &m.vx, &m.vy, &m.theta, &m.omega, &m.fx, &m.fy, &m.torque,
-                  &m.mass, &m.inertia, &m.weight, &m.vx_old, &m.vy_old, &m.omega_old}) {
+                  &m.mass, &m.vx_old, &m.vy_old, &m.omega_old}) {
     v->assign(n, 0.0);
   }
   // The out-of-plane constants only for the geometries and materials that have the term: the
   // hoop strain of every ring (axisymmetric), the J2 disks' zz eigenstrain (plane strain), and
   // sigma_zz = nu (sxx + syy) of the isotropic materials in plane strain.
+  if (axisym) m.weight.assign(n, 0.0);  // plane models: w = thickness (Model::disk_weight)
   bool out_of_plane = axisym, plane_strain_nu = false;
   for (const BodyMaterial& bm : materials) {
     const bool ps = geometry == Geometry::PlaneStrain;
@@ -49,15 +50,14 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (plane_strain_nu) m.nu_zz.assign(n, 0.0);
   m.constraint.assign(n, 0);
   m.mirror_plane.assign(n, 0);
-  m.initial_bonds.assign(n, 0);
 
   // Mass from the cell area (physics.md section 1): m = rho A w, w = thickness (plane) or the
   // ring radius b of the cell centroid (axisymmetric, per radian); I = m r^2 / 2.
   for (std::size_t i = 0; i < n; ++i) {
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
-    m.weight[i] = axisym ? lat.cell_cx[i] : thickness;
-    m.mass[i] = bm.material->density * m.cell_area[i] * m.weight[i];
-    m.inertia[i] = 0.5 * m.mass[i] * m.radius[i] * m.radius[i];
+    const double w = axisym ? lat.cell_cx[i] : thickness;
+    if (axisym) m.weight[i] = w;
+    m.mass[i] = bm.material->density * m.cell_area[i] * w;
     if (geometry == Geometry::PlaneStrain && bm.material->isotropic) m.nu_zz[i] = bm.material->nu;
     // The out-of-plane term: the hoop strain of every ring (axisymmetric), and in plane
     // strain the J2 disks, whose plastic eigenstrain has a zz component.
@@ -169,6 +169,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     if (axisym)
       for (auto* v : {&m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_fracture, &m.hoop_e_last, &m.hoop_break_kinetic}) v->assign(n, 0.0);
   }
+  std::vector<std::int32_t> bond_count(n, 0);  // bonds per disk: the adjacency's offsets
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
@@ -222,13 +223,13 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       m.kh_s[b] = ks * ratio;
       m.any_plastic = true;
     }
-    ++m.initial_bonds[i];
-    ++m.initial_bonds[j];
+    ++bond_count[i];
+    ++bond_count[j];
   }
 
   // Adjacency: incident bonds of each disk in ascending bond order (a fixed summation order).
   m.adj_offset.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + m.initial_bonds[i];
+  for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + bond_count[i];
   m.adj_bond.assign(2 * nb, 0);
   m.adj_sign.assign(2 * nb, 0);
   // The neighbours and reference vectors of the fits: only for the strain terms (the pair

@@ -255,14 +255,14 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
     g.point_data.push_back(std::move(a));
   }
   g.point_data.push_back(scalar("damage", [&m](std::size_t i) {
-    if (m.initial_bonds[i] == 0) return 0.0;
+    if (m.initial_bonds(i) == 0) return 0.0;
     // Broken bonds count 1, cracking bonds of softening materials their damage D.
     double broken = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = static_cast<std::size_t>(m.adj_bond[k]);
       broken += !m.bond_intact(b) ? 1.0 : m.damage.empty() ? 0.0 : m.damage[b];
     }
-    return broken / m.initial_bonds[i];
+    return broken / m.initial_bonds(i);
   }));
   // Axisymmetric softening: the damage of each ring's hoop stress (radial cracks).
   if (!m.hoop_damage.empty()) g.point_data.push_back(io::array_view("hoop_damage", m.hoop_damage.data(), n));
@@ -608,7 +608,7 @@ void RunOutput::write_bodies(const Solver& solver) {
     s[3] += mass * vx;
     s[4] += mass * vy;
     s[5] += 0.5 * (mass * (m.vx_old[i] * m.vx[i] + m.vy_old[i] * m.vy[i]) +
-                   m.inertia[i] * m.omega_old[i] * m.omega[i]);
+                   m.disk_inertia(i) * m.omega_old[i] * m.omega[i]);
   }
   csv_number(bodies_, solver.time());
   bodies_ << "," << solver.step_index();

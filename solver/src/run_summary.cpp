@@ -50,7 +50,7 @@ RunSummary run_summary(const Solver& s) {
     px[b] += m.mass[i] * s.vx_mid(i);
     py[b] += m.mass[i] * s.vy_mid(i);
     kin[b] += 0.5 * (m.mass[i] * (m.vx_old[i] * m.vx[i] + m.vy_old[i] * m.vy[i]) +
-                     m.inertia[i] * m.omega_old[i] * m.omega[i]);
+                     m.disk_inertia(i) * m.omega_old[i] * m.omega[i]);
   }
   const EnergyBalance& e = s.energy();
   RunSummary out;

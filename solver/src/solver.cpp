@@ -199,18 +199,18 @@ void Solver::update_velocity_blocks(double c_old, double c_new, std::size_t bloc
       if constexpr (Damping) {
         vxn = free_x ? (vxo * c_old + fx / mass * dt) * c_new : 0.0;
         vyn = free_y ? (vyo * c_old + fy / mass * dt) * c_new : 0.0;
-        wn = free_w ? (wo * c_old + m.torque[i] / m.inertia[i] * dt) * c_new : 0.0;
+        wn = free_w ? (wo * c_old + m.torque[i] / m.disk_inertia(i) * dt) * c_new : 0.0;
       } else {  // c_old = c_new = 1
         vxn = free_x ? vxo + fx / mass * dt : 0.0;
         vyn = free_y ? vyo + fy / mass * dt : 0.0;
-        wn = free_w ? wo + m.torque[i] / m.inertia[i] * dt : 0.0;
+        wn = free_w ? wo + m.torque[i] / m.disk_inertia(i) * dt : 0.0;
       }
       m.vx[i] = vxn;
       m.vy[i] = vyn;
       m.omega[i] = wn;
-      s.kinetic += 0.5 * (mass * (vxo * vxn + vyo * vyn) + m.inertia[i] * wo * wn);
+      s.kinetic += 0.5 * (mass * (vxo * vxn + vyo * vyn) + m.disk_inertia(i) * wo * wn);
       s.kinetic_sq += 0.25 * (mass * (vxo * vxo + vyo * vyo + vxn * vxn + vyn * vyn) +
-                              m.inertia[i] * (wo * wo + wn * wn));
+                              m.disk_inertia(i) * (wo * wo + wn * wn));
       if (free_x) {
         if constexpr (External) {
           s.ext_a += 0.5 * dt * m.fx_ext[i] * vxo;
@@ -235,7 +235,7 @@ void Solver::update_velocity_blocks(double c_old, double c_new, std::size_t bloc
       }
       if constexpr (Damping) {
         if (free_w) {
-          const double fd = alpha * m.inertia[i] * 0.5 * (wo + wn);
+          const double fd = alpha * m.disk_inertia(i) * 0.5 * (wo + wn);
           s.damp_a += 0.5 * dt * fd * wo;
           s.damp_b += 0.5 * dt * fd * wn;
         }

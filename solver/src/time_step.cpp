@@ -47,7 +47,7 @@ double Solver::finite_omega2_max(int max_iterations) {
   for (std::ptrdiff_t i = 0; i < ni; ++i) {
     sx[i] = (m.constraint[i] & kFixX) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
     sy[i] = (m.constraint[i] & kFixY) ? 0.0 : 1.0 / std::sqrt(m.mass[i]);
-    sw[i] = (spins && !(m.constraint[i] & kFixRotation)) ? 1.0 / std::sqrt(m.inertia[i]) : 0.0;
+    sw[i] = (spins && !(m.constraint[i] & kFixRotation)) ? 1.0 / std::sqrt(m.disk_inertia(i)) : 0.0;
   }
   double r_min = std::numeric_limits<double>::infinity();
   for (double r : m.radius) r_min = std::min(r_min, r);

@@ -67,7 +67,7 @@ void check_break(const std::string& angle) {
   // An interior bond with two complete neighbourhoods.
   std::size_t b = m.num_bonds();
   for (std::size_t k = 0; k < m.num_bonds() && b == m.num_bonds(); ++k)
-    if (m.initial_bonds[m.bi[k]] == 6 && m.initial_bonds[m.bj[k]] == 6 && std::abs(m.x0[m.bi[k]] - 0.01) < 0.003 &&
+    if (m.initial_bonds(m.bi[k]) == 6 && m.initial_bonds(m.bj[k]) == 6 && std::abs(m.x0[m.bi[k]] - 0.01) < 0.003 &&
         std::abs(m.y0[m.bi[k]] - 0.01) < 0.003)
       b = k;
   ASSERT_LT(b, m.num_bonds());
@@ -110,7 +110,7 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
   ASSERT_EQ(compute_internal_forces(m, dt), 0u);
   std::size_t i = m.num_disks();
   for (std::size_t k = 0; k < m.num_disks() && i == m.num_disks(); ++k)
-    if (m.initial_bonds[k] == 6 && std::abs(m.x0[k] - 0.01) < 0.003 && std::abs(m.y0[k] - 0.01) < 0.003) i = k;
+    if (m.initial_bonds(k) == 6 && std::abs(m.x0[k] - 0.01) < 0.003 && std::abs(m.y0[k] - 0.01) < 0.003) i = k;
   ASSERT_LT(i, m.num_disks());
   // Break five of its six bonds, one at a time; the last two breaks leave it without a fit.
   int broken = 0;

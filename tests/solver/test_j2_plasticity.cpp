@@ -208,7 +208,7 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
         }
         if (!interior(i)) continue;
         out.interior_force =
-            std::max(out.interior_force, std::hypot(m.fx[i], m.fy[i]) / (sigma_y * 2 * r * m.weight[i]));
+            std::max(out.interior_force, std::hypot(m.fx[i], m.fy[i]) / (sigma_y * 2 * r * m.disk_weight(i)));
       }
     }
     from = leg;
@@ -223,7 +223,7 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
   double dissipation = 0, lattice = 0, hardening = 0, stored = 0;
   for (std::size_t i = 0; i < m.num_disks(); ++i) {
     if (!interior(i)) continue;
-    const double v = m.cell_area[i] * m.weight[i];
+    const double v = m.cell_area[i] * m.disk_weight(i);
     dissipation += sigma_y * ref.eq * v;
     double pp = 0;
     for (int a = 0; a < 3; ++a)
@@ -325,11 +325,11 @@ AffineEnergy affine_energy(Geometry g, const Tensor& eps, const Tensor& p) {
   const double e0 = elastic_energy(m);
   double volume = 0, interior_energy = 0, interior_continuum = 0, correction = 0;
   for (std::size_t i = 0; i < m.num_disks(); ++i) {
-    const double v = m.cell_area[i] * m.weight[i];
+    const double v = m.cell_area[i] * m.disk_weight(i);
     volume += v;
     // The disk's own strain: the affine one with its hoop strain u_r / b (0 in plane strain).
     Tensor ei = eps;
-    ei[2][2] = axisym ? m.ux[i] / m.weight[i] : 0.0;
+    ei[2][2] = axisym ? m.ux[i] / m.disk_weight(i) : 0.0;
     Tensor di = ei;
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) di[a][b] -= p[a][b];

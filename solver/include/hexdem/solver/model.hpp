@@ -61,14 +61,13 @@ struct Model {
   std::vector<double> fx_ext, fy_ext;  ///< external part of the force at t [N]; empty without loads
   std::vector<double> ext_mxx, ext_myy, ext_mxy;  ///< sum sym(x_c (x) F) of the surface loads
                                                   ///< (x_c: lever arm from the centre) [N m]
-  std::vector<double> mass, inertia;   ///< m = rho A w, I = m r^2 / 2 (w: thickness or b)
+  std::vector<double> mass;            ///< m = rho A w (w: thickness or b); I = m r^2 / 2 is disk_inertia(i)
   std::vector<double> radius;          ///< [m]
   std::vector<double> cell_area;       ///< [m^2]
-  std::vector<double> weight;          ///< w: thickness [m] (plane) or ring radius b [m]
+  std::vector<double> weight;          ///< axisymmetric: w = ring radius b [m]; empty in plane models (w = thickness): disk_weight(i)
   std::vector<std::uint8_t> kind;
   std::vector<std::int32_t> body, material;
   std::vector<std::uint8_t> constraint;  ///< ConstraintBits
-  std::vector<std::int32_t> initial_bonds;  ///< bonds of each disk in the initial lattice
   /// Symmetry planes: disks on an axis-aligned mirror plane have no shear strain (their
   /// local strain and its conjugate are projected on the mirror-symmetric part), and disks
   /// one radius off it are tied to it by the normal spring of the bond to their mirror image.
@@ -220,6 +219,12 @@ struct Model {
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
+  /// Bonds of disk i in the initial lattice (the adjacency holds them all, broken or not).
+  [[nodiscard]] std::int64_t initial_bonds(std::size_t i) const { return adj_offset[i + 1] - adj_offset[i]; }
+  /// w of disk i: the thickness (plane) or the ring radius b (axisymmetric) [m].
+  [[nodiscard]] double disk_weight(std::size_t i) const { return weight.empty() ? thickness : weight[i]; }
+  /// Moment of inertia I = m r^2 / 2 [kg m^2] (per radian in axisymmetry).
+  [[nodiscard]] double disk_inertia(std::size_t i) const { return 0.5 * mass[i] * radius[i] * radius[i]; }
   [[nodiscard]] double bond_section(std::size_t b) const {
     if (!section.empty()) return section[b];
     const double w = thickness * ((spring_kind[b] & 1) ? 0.5 : 1.0);  // an edge bond has half a section
