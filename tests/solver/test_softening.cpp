@@ -101,7 +101,9 @@ TEST(NearACriterion, NeverMissesAStateTheExactTestFindsEvenOnTheBoundary) {
       const bool exact = at(f * hi), pass = near(f * hi);
       fired += exact;
       filtered += !pass;
-      if (exact) EXPECT_TRUE(pass) << "direction " << k << ", " << f << " x the boundary";
+      if (exact) {
+        EXPECT_TRUE(pass) << "direction " << k << ", " << f << " x the boundary";
+      }
     }
   }
   // The filter does its job: it rejects most states well inside the criteria (none of those
