@@ -370,7 +370,6 @@ inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f
 /// No tensile strength to check (a closing bond does not start to crack).
 constexpr double kNoTension = std::numeric_limits<double>::infinity();
 
-
 /// Pass B for a bond of a softening material (docs/model.md, "Fracture energy and
 /// softening"); the shear measure u_s is already updated (rotation model: accumulated).
 /// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression fully) and
@@ -527,7 +526,7 @@ void bond_forces(Model& m, double dt) {
     double du_n = 0.0;  // the stretch over the last step (hardening, softening, strain rate)
     if constexpr (Plastic || Breakable) du_n = len - m.len_prev[b];
     if constexpr (Softening) {
-      const std::int32_t law_b = m.body_failure_law[static_cast<std::size_t>(m.body[i])];  // Model::bond_failure_law
+      const std::int32_t law_b = m.bond_failure_law(static_cast<std::size_t>(b));
       if (law_b >= 0 && m.softening[static_cast<std::size_t>(law_b)].G_F > 0) {
         // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
         if constexpr (Rotation) m.u_s[b] += du_s;
@@ -571,7 +570,7 @@ void bond_forces(Model& m, double dt) {
     }
     if constexpr (Plastic || Breakable) m.len_prev[b] = len;
     if constexpr (Breakable) {
-      const std::int32_t law_b = m.body_failure_law[static_cast<std::size_t>(m.body[i])];  // Model::bond_failure_law
+      const std::int32_t law_b = m.bond_failure_law(static_cast<std::size_t>(b));
       if (law_b >= 0) {
         // Eqs. 17, 19, 20: the strengths of the bond's section, with the rate factors of the
         // bond's strain rate over the last step. The factors are >= 1 and only raise the
@@ -829,7 +828,8 @@ HalfStep own_half_step(const Model& m, std::size_t b, double dt, bool local) {
   if (dt == 0) return {};
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
   const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
-  const double dx = (m.x0[j] - m.x0[i]) + (m.ux[j] - m.ux[i]) - dt * dvx, dy = (m.y0[j] - m.y0[i]) + (m.uy[j] - m.uy[i]) - dt * dvy;
+  const double dx = m.ref_ax(b) + (m.ux[j] - m.ux[i]) - dt * dvx;
+  const double dy = m.ref_ay(b) + (m.uy[j] - m.uy[i]) - dt * dvy;
   const double d_delta = m.len_prev[b] - std::sqrt(dx * dx + dy * dy);
   double d_us = 0.0;
   if (!local) {

@@ -33,10 +33,10 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
                   &m.mass, &m.vx_old, &m.vy_old, &m.omega_old}) {
     v->assign(n, 0.0);
   }
+  if (axisym) m.weight.assign(n, 0.0);  // plane models: w = thickness (Model::disk_weight)
   // The out-of-plane constants only for the geometries and materials that have the term: the
   // hoop strain of every ring (axisymmetric), the J2 disks' zz eigenstrain (plane strain), and
   // sigma_zz = nu (sxx + syy) of the isotropic materials in plane strain.
-  if (axisym) m.weight.assign(n, 0.0);  // plane models: w = thickness (Model::disk_weight)
   bool out_of_plane = axisym, plane_strain_nu = false;
   for (const BodyMaterial& bm : materials) {
     const bool ps = geometry == Geometry::PlaneStrain;
@@ -52,7 +52,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   m.mirror_plane.assign(n, 0);
 
   // Mass from the cell area (physics.md section 1): m = rho A w, w = thickness (plane) or the
-  // ring radius b of the cell centroid (axisymmetric, per radian); I = m r^2 / 2.
+  // ring radius b of the cell centroid (axisymmetric, per radian); I = m r^2 / 2 is
+  // recomputed where it is needed (Model::disk_inertia).
   for (std::size_t i = 0; i < n; ++i) {
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
     const double w = axisym ? lat.cell_cx[i] : thickness;
@@ -203,6 +204,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     if (per_kind) {
       const auto kind = static_cast<std::size_t>(4 * m.body[i] + 2 * (axis_class ? 1 : 0) + (lat.bond_on_edge[b] ? 1 : 0));
       m.spring_kind[b] = static_cast<std::uint8_t>(kind);
+      HEXDEM_ASSERT(m.kind_k_n[kind] == 0.0 || (m.kind_k_n[kind] == kn && m.kind_k_s[kind] == ks),
+                    "bonds of one spring kind with different stiffnesses");
       m.kind_k_n[kind] = kn;  // the same value for every bond of the kind
       m.kind_k_s[kind] = ks;
     } else {
@@ -214,6 +217,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
     const double section = 2.0 * m.radius[i] * w;
     if (!m.section.empty()) m.section[b] = section;
+    HEXDEM_ASSERT(!breakable || m.bond_section(b) == section, "Model::bond_section disagrees with the build's section");
     if (bm.material->breakable) m.any_breakable = true;
     if (bm.material->plastic() && !bm.j2) {
       // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
