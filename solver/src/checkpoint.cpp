@@ -55,7 +55,7 @@ void visit_model(M& m, V& v) {
   v.state("cell_area", m.cell_area);
   v.state("weight", m.weight);
   v.state("kind", m.kind);
-  v.state("body", m.body); v.state("material", m.material);
+  v.state("body", m.body); v.state("body_material", m.body_material);
   v.state("constraint", m.constraint);
   v.state("mirror_plane", m.mirror_plane);
   v.state("wall_kx", m.wall_kx); v.state("wall_ky", m.wall_ky);
@@ -131,9 +131,8 @@ void visit_model(M& m, V& v) {
   v.state("sig_xy", m.sig_xy); v.state("sig_33", m.sig_33);
   v.state("disk_plastic_work", m.disk_plastic_work);
   // adjacency
-  v.state("adj_offset", m.adj_offset); v.state("adj_bond", m.adj_bond);
-  v.state("adj_other", m.adj_other); v.state("adj_sign", m.adj_sign);
-  v.state("adj_ax", m.adj_ax); v.state("adj_ay", m.adj_ay);
+  v.state("adj_offset", m.adj_offset); v.state("adj_entry", m.adj_entry);
+  v.state("adj_other", m.adj_other);
   v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
   v.rebuilt("event_weights", m.event_weights);  // work space of settle_broken_bonds
   v.rebuilt("event_half", m.event_half);  // work space of settle_broken_bonds

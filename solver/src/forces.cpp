@@ -27,10 +27,10 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
                                    const std::vector<double>& fy) {
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    const auto b = m.adj_bond(k);
     const auto o = m.adj_other[k];
     if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
-    const double ax = m.adj_ax[k], ay = m.adj_ay[k];
+    const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
     const double dux = fx[o] - fx[i], duy = fy[o] - fy[i];
     gxx += dux * ax;
     gxy += dux * ay;
@@ -224,7 +224,7 @@ void j2_return_mapping(Model& m, std::size_t i) {
   // mirror image) as a bond.
   int intact = (m.has_mirror_springs() && (m.wall_kx[i] != 0 || m.wall_ky[i] != 0)) ? 1 : 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k)
-    intact += m.bond_intact(static_cast<std::size_t>(m.adj_bond[k])) ? 1 : 0;
+    intact += m.bond_intact(m.adj_bond(k)) ? 1 : 0;
   if (intact == 6) {
     const DiskStress s = j2_stress(m, i);
     const double mean = (s.xx + s.yy + s.s33) / 3.0;
@@ -487,7 +487,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
 /// breakable bonds are checked against Eqs. 17, 19, 20 and, once broken (state II), act as
 /// contacts: compression only, Coulomb friction, a dashpot at a fraction of critical damping.
 template <bool Rotation, bool Plastic, bool Breakable, bool Softening, bool J2>
-void bond_forces(Model& m, double dt) {
+void bond_forces(Model& m, double dt, const double* __restrict vx, const double* __restrict vy,
+                 const double* __restrict om) {
   const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
   // The stiffnesses per kind or per bond (Model::kn), decided once for the pass.
   const bool per_kind = m.k_n.empty();
@@ -516,8 +517,7 @@ void bond_forces(Model& m, double dt) {
     double du_s = 0.0;
     if constexpr (Rotation) {
       const double sx = -ny, sy = nx;
-      du_s = dt * ((m.vx[j] - m.vx[i]) * sx + (m.vy[j] - m.vy[i]) * sy -
-                   (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+      du_s = dt * ((vx[j] - vx[i]) * sx + (vy[j] - vy[i]) * sy - (m.radius[i] * om[i] + m.radius[j] * om[j]));
     } else {
       const double u_s = local_shear(m, static_cast<std::size_t>(b));
       du_s = u_s - m.u_s[b];
@@ -595,21 +595,22 @@ void bond_forces(Model& m, double dt) {
 }
 
 /// The bond pass for each combination of laws, chosen once per pass instead of per bond.
-using BondKernel = void (*)(Model&, double);
+using BondKernel = void (*)(Model&, double, const double*, const double*, const double*);
 template <std::size_t K>
-void bond_forces_of(Model& m, double dt) {
-  bond_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0>(m, dt);
+void bond_forces_of(Model& m, double dt, const double* vx, const double* vy, const double* om) {
+  bond_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0>(m, dt, vx, vy, om);
 }
 template <std::size_t... K>
 constexpr std::array<BondKernel, sizeof...(K)> bond_kernels(std::index_sequence<K...>) {
   return {&bond_forces_of<K>...};
 }
 
-void compute_bond_forces(Model& m, double dt) {
+/// (vx, vy, om): the velocities whose dt-multiple is the rotation model's shear increment.
+void compute_bond_forces(Model& m, double dt, const double* vx, const double* vy, const double* om) {
   static constexpr std::array<BondKernel, 32> kernels = bond_kernels(std::make_index_sequence<32>{});
   const std::size_t k = (m.shear_model == ShearModel::Rotation ? 1U : 0U) | (m.any_plastic ? 2U : 0U) |
                         (m.any_breakable ? 4U : 0U) | (m.any_softening ? 8U : 0U) | (m.any_j2 ? 16U : 0U);
-  kernels[k](m, dt);
+  kernels[k](m, dt, vx, vy, om);
 }
 
 /// Pass C: W_i = S_i M_i^-1 with S_i = dE/d(eps_i): the local-strain shear springs
@@ -623,7 +624,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
     double sxx = 0, syy = 0, sxy = 0;
     if (shear_springs) {
       for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-        const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+        const auto b = m.adj_bond(k);
         if (!m.bond_intact(b)) continue;
         const double fs = m.f_s[b];
         sxx += fs * m.g_xx[b];
@@ -660,8 +661,7 @@ void gather_forces(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
   // Raw arrays: the loop writes only fx, fy, torque, which nothing in it reads.
   const std::int64_t* __restrict offset = m.adj_offset.data();
-  const std::int32_t* __restrict adj_bond = m.adj_bond.data();
-  const std::int8_t* __restrict adj_sign = m.adj_sign.data();
+  const std::int32_t* __restrict adj_entry = m.adj_entry.data();
   const double* __restrict bnx = m.nx.data();
   const double* __restrict bny = m.ny.data();
   const double* __restrict f_n = m.f_n.data();
@@ -675,8 +675,10 @@ void gather_forces(Model& m) {
     double fx = 0, fy = 0, tq = 0;
     const double r_i = radius[i];
     for (auto k = offset[i]; k < offset[i + 1]; ++k) {
-      const auto b = static_cast<std::size_t>(adj_bond[k]);
-      const double s = adj_sign[k];
+      // Model::adj_bond and adj_sign: the entry is b where i is the bond's bi, ~b where bj.
+      const std::int32_t e = adj_entry[k];
+      const auto b = static_cast<std::size_t>(e >= 0 ? e : ~e);
+      const double s = e >= 0 ? 1.0 : -1.0;
       const double nx = bnx[b], ny = bny[b];
       double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
       if constexpr (Breakable) {
@@ -701,7 +703,7 @@ void gather_forces(Model& m) {
         if (m.bond_in_fit(b)) {
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
           const auto o = m.adj_other[k];
-          const double ax = m.adj_ax[k], ay = m.adj_ay[k];
+          const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
           const double ci = m.strain_ok[o] ? 1.0 : 0.0, co = m.strain_ok[i] ? 1.0 : 0.0;
           const double wxx = ci * m.w_xx[i] + co * m.w_xx[o], wxy = ci * m.w_xy[i] + co * m.w_xy[o];
           const double wyx = ci * m.w_yx[i] + co * m.w_yx[o], wyy = ci * m.w_yy[i] + co * m.w_yy[o];
@@ -746,7 +748,11 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
 
 }  // namespace
 
-std::size_t compute_internal_forces(Model& m, double dt) {
+namespace {
+
+/// The passes of compute_internal_forces up to the gather, with the shear increments
+/// dt (vx, vy, om) of the rotation model.
+void force_passes(Model& m, double dt, const double* vx, const double* vy, const double* om) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
   const bool hoop = m.geometry == Geometry::Axisymmetric;
   const bool strains = local || hoop || m.any_j2;
@@ -754,10 +760,23 @@ std::size_t compute_internal_forces(Model& m, double dt) {
   if (strains || m.any_softening) compute_disk_strains(m);
   if (m.any_j2) return_mapping(m);
   if (hoop && m.any_softening) update_hoop_damage(m);
-  compute_bond_forces(m, dt);
+  compute_bond_forces(m, dt, vx, vy, om);
   if (strains) compute_strain_conjugates(m, local, hoop);
   gather_forces(m, !local, strains, hoop);
+}
+
+}  // namespace
+
+std::size_t compute_internal_forces(Model& m, double dt) {
+  force_passes(m, dt, m.vx.data(), m.vy.data(), m.omega.data());
   return m.any_breakable ? settle_broken_bonds(m, dt) : 0;
+}
+
+void compute_probe_forces(Model& m) {
+  force_passes(m, 1.0, m.ux.data(), m.uy.data(), m.theta.data());
+  // The probe is the linear operator: no bond breaks in it (it is far below any strength,
+  // and a break would not be linear).
+  std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
 }
 
 double elastic_energy(const Model& m) {
@@ -885,7 +904,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     if (strains) {
       for (std::size_t i : disks)
         for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && count < touched.size(); ++k) {
-          const auto c = static_cast<std::size_t>(m.adj_bond[k]);
+          const auto c = m.adj_bond(k);
           if (c != b && m.bond_intact(c) &&
               std::find(touched.begin(), touched.begin() + count, c) == touched.begin() + count)
             touched[count++] = c;
@@ -1037,7 +1056,7 @@ Stress disk_stress(const Model& m, std::size_t i) {
   Stress st;
   double sxx = 0, syy = 0, sxy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    const auto b = m.adj_bond(k);
     if (m.f_n[b] == 0.0 && m.f_s[b] == 0.0) continue;
     const double nx = m.nx[b], ny = m.ny[b], sx = -ny, sy = nx;
     const double fn = m.f_n[b], fs = m.f_s[b];

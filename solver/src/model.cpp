@@ -230,34 +230,29 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     ++bond_count[i];
     ++bond_count[j];
   }
+  // Plane models: the bond's class is in its spring kind (Model::bond_class_of), if every
+  // class is one of the two.
+  if (per_kind && std::all_of(m.bond_class.begin(), m.bond_class.end(), [](std::uint8_t c) { return c == 1 || c == 2; }))
+    std::vector<std::uint8_t>().swap(m.bond_class);
 
   // Adjacency: incident bonds of each disk in ascending bond order (a fixed summation order).
   m.adj_offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + bond_count[i];
-  m.adj_bond.assign(2 * nb, 0);
-  m.adj_sign.assign(2 * nb, 0);
+  m.adj_entry.assign(2 * nb, 0);
   // The neighbours and reference vectors of the fits: only for the strain terms (the pair
   // forces need the bond and its sign alone).
   if (m.uses_strains) {
-    m.adj_other.assign(2 * nb, 0);
-    m.adj_ax.assign(2 * nb, 0.0);
-    m.adj_ay.assign(2 * nb, 0.0);
+    m.adj_other.assign(2 * nb, 0);  // the reference vectors are x0[o] - x0[i] (Model::adj_ax)
   }
   std::vector<std::int64_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = m.bi[b], j = m.bj[b];
     const auto pi = fill[static_cast<std::size_t>(i)]++, pj = fill[static_cast<std::size_t>(j)]++;
-    m.adj_bond[pi] = static_cast<std::int32_t>(b);
-    m.adj_sign[pi] = 1;
-    m.adj_bond[pj] = static_cast<std::int32_t>(b);
-    m.adj_sign[pj] = -1;
+    m.adj_entry[pi] = static_cast<std::int32_t>(b);   // i is the bond's bi
+    m.adj_entry[pj] = ~static_cast<std::int32_t>(b);  // j is its bj
     if (m.uses_strains) {
       m.adj_other[pi] = j;
       m.adj_other[pj] = i;
-      m.adj_ax[pi] = m.ref_ax(b);
-      m.adj_ay[pi] = m.ref_ay(b);
-      m.adj_ax[pj] = -m.ref_ax(b);
-      m.adj_ay[pj] = -m.ref_ay(b);
     }
   }
   if (m.any_breakable) {
@@ -303,7 +298,16 @@ Model disk_and_bond_arrays(L& lat) {
   give(m.cell_area, lat.cell_area);
   give(m.kind, lat.kind);
   give(m.body, lat.body);
-  give(m.material, lat.material);
+  // The material is the body's (Lattice::material): kept per body (Model::disk_material).
+  std::int32_t bodies = 0;
+  for (std::int32_t b : m.body) bodies = std::max(bodies, b + 1);
+  m.body_material.assign(static_cast<std::size_t>(bodies), -1);
+  for (std::size_t i = 0; i < m.body.size(); ++i) {
+    std::int32_t& bm = m.body_material[static_cast<std::size_t>(m.body[i])];
+    HEXDEM_VERIFY(bm < 0 || bm == lat.material[i], "disks of one body with different materials");
+    bm = lat.material[i];
+  }
+  if constexpr (Take) std::vector<std::int32_t>().swap(lat.material);
   give(m.bi, lat.bond_i);
   give(m.bj, lat.bond_j);
   give(m.bond_class, lat.bond_class);
@@ -352,11 +356,12 @@ void update_strain_matrix(Model& m, std::size_t i) {
   if (!m.uses_strains) return;
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    const auto b = m.adj_bond(k);
     if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
-    sxx += m.adj_ax[k] * m.adj_ax[k];
-    sxy += m.adj_ax[k] * m.adj_ay[k];
-    syy += m.adj_ay[k] * m.adj_ay[k];
+    const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
+    sxx += ax * ax;
+    sxy += ax * ay;
+    syy += ay * ay;
   }
   // A disk with fewer than two independent bonds has no local strain.
   const double det = sxx * syy - sxy * sxy;

@@ -228,7 +228,17 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   g.point_data.push_back(io::array_view("radius", m.radius.data(), n));
   g.point_data.push_back(io::array_view("kind", m.kind.data(), n));
   g.point_data.push_back(io::array_view("body", m.body.data(), n));
-  g.point_data.push_back(io::array_view("material", m.material.data(), n));
+  {
+    io::ArraySource a;  // the body's material (Model::disk_material)
+    a.name = "material";
+    a.type = io::ScalarType::Int32;
+    a.tuples = n;
+    a.fill = [&m](std::size_t first, std::size_t count, void* out) {
+      auto* o = static_cast<std::int32_t*>(out);
+      for (std::size_t k = 0; k < count; ++k) o[k] = m.disk_material(first + k);
+    };
+    g.point_data.push_back(std::move(a));
+  }
   g.point_data.push_back(io::array_view("mass", m.mass.data(), n));
   g.point_data.push_back(io::array_view("cell_area", m.cell_area.data(), n));
   if (m.geometry == Geometry::Axisymmetric) g.point_data.push_back(io::array_view("ring_radius", m.weight.data(), n));
@@ -259,7 +269,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
     // Broken bonds count 1, cracking bonds of softening materials their damage D.
     double broken = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-      const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+      const auto b = m.adj_bond(k);
       broken += !m.bond_intact(b) ? 1.0 : m.damage.empty() ? 0.0 : m.damage[b];
     }
     return broken / m.initial_bonds(i);
@@ -315,7 +325,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   if (m.any_softening)
     g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.damage[b]; },
                                 [](std::size_t) { return 1.0; }));
-  g.cell_data.push_back(cells("bond_class", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.bond_class[b]); },
+  g.cell_data.push_back(cells("bond_class", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.bond_class_of(b)); },
                               [](std::size_t) { return 0.0; }));
   g.field_data.push_back({"time", {solver.time()}, {}, {}});
   g.field_data.push_back({"step", {static_cast<double>(solver.step_index())}, {}, {}});

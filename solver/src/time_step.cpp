@@ -53,6 +53,8 @@ double Solver::finite_omega2_max(int max_iterations) {
   for (double r : m.radius) r_min = std::min(r_min, r);
   // A v, through displacements small enough (1e-6 r) for the kernel to be linear: probe(v)
   // leaves the forces in fx, fy, torque and returns the scale eps; (A v)_k is then y(i, c).
+  // The probe's shear increments are its displacements (compute_probe_forces), so the
+  // velocity arrays hold the second vector, u, component by component.
   auto probe = [&](const std::vector<double>& v) {
     double umax = 0;  // a maximum: the same in any order
 #pragma omp parallel for schedule(static) reduction(max : umax)
@@ -66,20 +68,23 @@ double Solver::finite_omega2_max(int max_iterations) {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < ni; ++i) {
       const double* vi = v.data() + dofs * static_cast<std::size_t>(i);
-      m.ux[i] = m.vx[i] = eps * vi[0] * sx[i];
-      m.uy[i] = m.vy[i] = eps * vi[1] * sy[i];
-      m.theta[i] = m.omega[i] = spins ? eps * vi[2] * sw[i] : 0.0;
+      m.ux[i] = eps * vi[0] * sx[i];
+      m.uy[i] = eps * vi[1] * sy[i];
+      m.theta[i] = spins ? eps * vi[2] * sw[i] : 0.0;
     }
     reset_bond_history(m);  // every spring starts from zero: its increment is the probe
-    compute_internal_forces(m, 1.0);
+    compute_probe_forces(m);
     return eps;
   };
   const auto y = [&](std::size_t i, std::size_t c, double eps) {
     return c == 0 ? -m.fx[i] / eps * sx[i] : c == 1 ? -m.fy[i] / eps * sy[i] : -m.torque[i] / eps * sw[i];
   };
   // Two vectors: v, and u, which holds the previous v and then, in place, the new residual
-  // w = A v - a v - b v_prev (A v is read from the forces, not stored).
-  std::vector<double> v(n * dofs), u(n * dofs, 0.0);
+  // w = A v - a v - b v_prev (A v is read from the forces, not stored). u's components are
+  // the velocity arrays (u_c[i], c = x, y, spin).
+  std::vector<double> v(n * dofs);
+  double* const u_c[3] = {m.vx.data(), m.vy.data(), m.omega.data()};
+  for (auto* a : {&m.vx, &m.vy, &m.omega}) std::fill(a->begin(), a->end(), 0.0);
   const auto nk = static_cast<std::ptrdiff_t>(v.size());
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -107,10 +112,12 @@ double Solver::finite_omega2_max(int max_iterations) {
       for (std::ptrdiff_t i = 0; i < ni; ++i)
         for (std::size_t c = 0; c < dofs; ++c) {
           const std::size_t k = dofs * static_cast<std::size_t>(i) + c;
-          u[k] = y(static_cast<std::size_t>(i), c, eps) - (a * v[k] + beta_prev * u[k]);
+          double& uk = u_c[c][i];
+          uk = y(static_cast<std::size_t>(i), c, eps) - (a * v[k] + beta_prev * uk);
         }
       double b2 = 0;
-      for (std::size_t k = 0; k < u.size(); ++k) b2 += u[k] * u[k];
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < dofs; ++c) b2 += u_c[c][i] * u_c[c][i];
       alpha.push_back(a);
       const double b = std::sqrt(b2);
       if ((it + 1) % 10 == 0 || b == 0 || it + 1 == max_iterations) {
@@ -125,9 +132,10 @@ double Solver::finite_omega2_max(int max_iterations) {
       beta.push_back(b);
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t k = 0; k < nk; ++k) {
-        const double next = u[k] / b;  // v_prev <- v, v <- w / b
-        u[k] = v[k];
-        v[k] = next;
+        double& uk = u_c[static_cast<std::size_t>(k) % dofs][static_cast<std::size_t>(k) / dofs];
+        const double next = uk / b;  // v_prev <- v, v <- w / b
+        uk = v[static_cast<std::size_t>(k)];
+        v[static_cast<std::size_t>(k)] = next;
       }
       beta_prev = b;
     }

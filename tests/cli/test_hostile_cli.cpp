@@ -87,7 +87,7 @@ TEST(HostileCli, ThreadCountIsBounded) {
   const fs::path dir = work_dir();
   const fs::path outline = write(dir, "o.toml", "[lattice]\nradius = 1e-3\n[[body]]\nname = \"a\"\n"
                                  "[[body.shape]]\ntype = \"rectangle\"\nmin = [0, 0]\nmax = [0.01, 0.01]\n");
-  for (const std::string cmd : {"mesh " + quote(outline), "run " + quote(write(dir, "c.toml", plate_case("", "end = 1e-6")))}) {
+  for (const std::string& cmd : {"mesh " + quote(outline), "run " + quote(write(dir, "c.toml", plate_case("", "end = 1e-6")))}) {
     const Result r = run_hexdem(dir, cmd + " -j 100000");
     EXPECT_EQ(r.code, 2) << cmd << r.err;
     EXPECT_NE(r.err.find("100000"), std::string::npos) << r.err;

@@ -115,7 +115,7 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
   // Break five of its six bonds, one at a time; the last two breaks leave it without a fit.
   int broken = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1] && broken < 5; ++k, ++broken) {
-    const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+    const auto b = m.adj_bond(k);
     const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
     const bool stretched_now = m.f_n[b] > 0;
     const double eps[3] = {m.eps_xx[i], m.eps_yy[i], m.eps_xy[i]};

@@ -43,14 +43,18 @@ std::string make_row(std::mt19937_64& rng, long long step, int values) {
   std::uniform_int_distribution<int> exponent(-300, 300), kind(0, 3);
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.10g", 1e-6 * static_cast<double>(step));
-  std::string row = std::string(buf) + "," + std::to_string(step);
+  std::string row(buf);
+  row += ',';
+  row += std::to_string(step);
   for (int k = 0; k < values; ++k) {
     const int which = kind(rng);
     const double v = which == 0 ? 0.0 : which == 1 ? 0.5 : mantissa(rng) * std::pow(10.0, exponent(rng));
     std::snprintf(buf, sizeof buf, "%.10g", v);
-    row += "," + std::string(buf);
+    row += ',';
+    row += buf;
   }
-  return row + "\n";
+  row += '\n';
+  return row;
 }
 
 /// The rows of the file with their leading blanks removed.

@@ -234,7 +234,7 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
     stored += h;
     double w = m.disk_plastic_work[i];
     if (!m.plastic_work.empty())  // bilinear springs only (the J2 disks' bonds are elastic)
-      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) w += 0.5 * m.plastic_work[m.adj_bond[k]];
+      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) w += 0.5 * m.plastic_work[m.adj_bond(k)];
     lattice += w - h;
   }
   out.dissipation_ratio = lattice / dissipation;
@@ -338,7 +338,7 @@ AffineEnergy affine_energy(Geometry g, const Tensor& eps, const Tensor& p) {
     if (!(m.x0[i] > x0 + margin && m.x0[i] < x0 + L - margin && m.y0[i] > margin && m.y0[i] < L - margin)) continue;
     double w = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-      const auto b = static_cast<std::size_t>(m.adj_bond[k]);
+      const auto b = m.adj_bond(k);
       w += 0.5 * (0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b));
     }
     if (axisym) {  // the hoop term: psi(eps) less its plane-strain part

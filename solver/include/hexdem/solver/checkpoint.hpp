@@ -30,7 +30,7 @@ namespace hexdem::solver {
 /// records how far `<case>.reactions.csv` got (run.reactions_bytes, run.reactions_hash).
 /// 3: the kinetic half step of breaks (model.break_kinetic, model.hoop_break_kinetic).
 /// 4: the time-step record holds the Lanczos iteration count (dt_info.finite_iterations).
-inline constexpr std::uint32_t kCheckpointVersion = 5;
+inline constexpr std::uint32_t kCheckpointVersion = 6;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

@@ -66,7 +66,8 @@ struct Model {
   std::vector<double> cell_area;       ///< [m^2]
   std::vector<double> weight;          ///< axisymmetric: w = ring radius b [m]; empty in plane models (w = thickness): disk_weight(i)
   std::vector<std::uint8_t> kind;
-  std::vector<std::int32_t> body, material;
+  std::vector<std::int32_t> body;
+  std::vector<std::int32_t> body_material;  ///< per body: its material id (disk_material(i))
   std::vector<std::uint8_t> constraint;  ///< ConstraintBits
   /// Symmetry planes: disks on an axis-aligned mirror plane have no shear strain (their
   /// local strain and its conjugate are projected on the mirror-symmetric part), and disks
@@ -88,7 +89,7 @@ struct Model {
   /// flight at a lattice angle of 30 degrees blew up at step 190).
   std::vector<std::uint8_t> strain_ok;
   /// Some term needs the disks' strains (local-strain shear, hoop, J2, softening): the
-  /// strain arrays (minv, eps, w, u_s, g, adj_ax/ay) exist only then.
+  /// strain arrays (minv, eps, w, u_s, g, adj_other) exist only then.
   bool uses_strains = false;
   std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
   /// Breakable models with strains: the strain carried across changes of a disk's fit,
@@ -123,6 +124,8 @@ struct Model {
   std::vector<double> nx, ny;          ///< current unit vector from bi to bj
   std::vector<double> u_s;             ///< local-strain shear displacement [m]
   std::vector<std::uint8_t> state;     ///< BondState
+  /// 1 along the lattice axis, 2 the other directions: read through bond_class_of(b); stored
+  /// per bond only where the stiffnesses are (axisymmetric), otherwise the spring kind has it.
   std::vector<std::uint8_t> bond_class;
   std::vector<double> break_time;      ///< [s], -1 while intact
 
@@ -201,10 +204,10 @@ struct Model {
 
   // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
   std::vector<std::int64_t> adj_offset;  ///< size num_disks + 1
-  std::vector<std::int32_t> adj_bond;    ///< bond index
+  /// The bond of each entry, b where the disk is the bond's bi and ~b (= -1 - b) where it is
+  /// its bj: read through adj_bond(k) and adj_sign(k).
+  std::vector<std::int32_t> adj_entry;
   std::vector<std::int32_t> adj_other;   ///< the other disk (strain terms only; empty otherwise)
-  std::vector<std::int8_t> adj_sign;     ///< +1 if the disk is the bond's bi, -1 if bj
-  std::vector<double> adj_ax, adj_ay;    ///< reference vector to the other disk [m]
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
   std::vector<double> event_weights;    ///< settle_broken_bonds: each event's stored energy
@@ -219,6 +222,22 @@ struct Model {
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
+  /// Reference vector from disk i to the other disk of its adjacency entry k, x0[o] - x0[i]
+  /// [m], recomputed (strain terms only: adj_other): the same bits as +-ref_ax of the bond,
+  /// since a - b = -(b - a) exactly.
+  [[nodiscard]] double adj_ax(std::size_t i, std::int64_t k) const {
+    return x0[static_cast<std::size_t>(adj_other[static_cast<std::size_t>(k)])] - x0[i];
+  }
+  [[nodiscard]] double adj_ay(std::size_t i, std::int64_t k) const {
+    return y0[static_cast<std::size_t>(adj_other[static_cast<std::size_t>(k)])] - y0[i];
+  }
+  /// The bond of adjacency entry k.
+  [[nodiscard]] std::size_t adj_bond(std::int64_t k) const {
+    const std::int32_t e = adj_entry[static_cast<std::size_t>(k)];
+    return static_cast<std::size_t>(e >= 0 ? e : ~e);
+  }
+  /// +1 if the disk of adjacency entry k is its bond's bi, -1 if it is its bj.
+  [[nodiscard]] double adj_sign(std::int64_t k) const { return adj_entry[static_cast<std::size_t>(k)] >= 0 ? 1.0 : -1.0; }
   /// Bonds of disk i in the initial lattice (the adjacency holds them all, broken or not).
   [[nodiscard]] std::int64_t initial_bonds(std::size_t i) const { return adj_offset[i + 1] - adj_offset[i]; }
   /// w of disk i: the thickness (plane) or the ring radius b (axisymmetric) [m].
@@ -233,6 +252,12 @@ struct Model {
   [[nodiscard]] double bond_mu(std::size_t b) const { return body_mu[static_cast<std::size_t>(body[static_cast<std::size_t>(bi[b])])]; }
   [[nodiscard]] std::int32_t bond_failure_law(std::size_t b) const {
     return body_failure_law[static_cast<std::size_t>(body[static_cast<std::size_t>(bi[b])])];
+  }
+  [[nodiscard]] std::uint8_t bond_class_of(std::size_t b) const {
+    return bond_class.empty() ? ((spring_kind[b] & 2) ? 1 : 2) : bond_class[b];
+  }
+  [[nodiscard]] std::int32_t disk_material(std::size_t i) const {
+    return body_material[static_cast<std::size_t>(body[i])];
   }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
@@ -282,6 +307,13 @@ void reset_bond_history(Model& m);
 /// (settle_broken_bonds): the returned forces are those without them. Returns the number of
 /// bonds that broke.
 std::size_t compute_internal_forces(Model& m, double dt);
+
+/// The same forces for the critical-step estimate (Solver::finite_omega2_max), on a state
+/// whose bonds' history has just been reset: the rotation model's shear increments are the
+/// displacements and rotations themselves (dt = 1 and v = u, the same bits as setting the
+/// velocities to the displacements), so the velocity arrays are free to hold the estimate's
+/// vectors. No bond breaks.
+void compute_probe_forces(Model& m);
 
 /// Elastic energy stored in the springs, contacts and out-of-plane (hoop) term, including
 /// the locked-in energy of the hardening springs and of the J2 disks' back stress,
