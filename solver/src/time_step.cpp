@@ -52,7 +52,7 @@ double Solver::finite_omega2_max(int max_iterations) {
   double r_min = std::numeric_limits<double>::infinity();
   for (double r : m.radius) r_min = std::min(r_min, r);
   // A v, through displacements small enough (1e-6 r) for the kernel to be linear: probe(v)
-  // leaves the forces in fx, fy, torque and returns the scale eps; (A v)_k is then y(i, c).
+  // leaves the forces in fx, fy, torque and returns the scale eps.
   // The probe's shear increments are its displacements (compute_probe_forces), so the
   // velocity arrays hold the second vector, u, component by component.
   auto probe = [&](const std::vector<double>& v) {
@@ -76,16 +76,15 @@ double Solver::finite_omega2_max(int max_iterations) {
     compute_probe_forces(m);
     return eps;
   };
-  const auto y = [&](std::size_t i, std::size_t c, double eps) {
-    return c == 0 ? -m.fx[i] / eps * sx[i] : c == 1 ? -m.fy[i] / eps * sy[i] : -m.torque[i] / eps * sw[i];
-  };
+  // (A v)_k = -f_c[i] / eps * s_c[i], written over the forces f_c = fx, fy, torque.
+  double* const y_c[3] = {m.fx.data(), m.fy.data(), m.torque.data()};
+  const double* const s_c[3] = {sx, sy, sw};
   // Two vectors: v, and u, which holds the previous v and then, in place, the new residual
   // w = A v - a v - b v_prev (A v is read from the forces, not stored). u's components are
   // the velocity arrays (u_c[i], c = x, y, spin).
   std::vector<double> v(n * dofs);
   double* const u_c[3] = {m.vx.data(), m.vy.data(), m.omega.data()};
   for (auto* a : {&m.vx, &m.vy, &m.omega}) std::fill(a->begin(), a->end(), 0.0);
-  const auto nk = static_cast<std::ptrdiff_t>(v.size());
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   double norm = 0;
@@ -105,19 +104,31 @@ double Solver::finite_omega2_max(int max_iterations) {
       const double eps = probe(v);
       // The dot products in index order (the estimate, and so the step, do not depend on
       // the thread count); the vector updates in parallel.
-      double a = 0;
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t c = 0; c < dofs; ++c) a += v[dofs * i + c] * y(i, c, eps);
+      // A v once, in place of the forces (nothing reads them before the next probe).
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < ni; ++i)
+        for (std::size_t c = 0; c < dofs; ++c) y_c[c][i] = -y_c[c][i] / eps * s_c[c][i];
+      // The sums in locals of their own: a variable that a parallel region shares has its
+      // address taken, and the compiler kept it in memory through the whole loop.
+      const double a = [&] {
+        double sum = 0;
+        for (std::size_t i = 0; i < n; ++i)
+          for (std::size_t c = 0; c < dofs; ++c) sum += v[dofs * i + c] * y_c[c][i];
+        return sum;
+      }();
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < ni; ++i)
         for (std::size_t c = 0; c < dofs; ++c) {
           const std::size_t k = dofs * static_cast<std::size_t>(i) + c;
           double& uk = u_c[c][i];
-          uk = y(static_cast<std::size_t>(i), c, eps) - (a * v[k] + beta_prev * uk);
+          uk = y_c[c][i] - (a * v[k] + beta_prev * uk);
         }
-      double b2 = 0;
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t c = 0; c < dofs; ++c) b2 += u_c[c][i] * u_c[c][i];
+      const double b2 = [&] {
+        double sum = 0;
+        for (std::size_t i = 0; i < n; ++i)
+          for (std::size_t c = 0; c < dofs; ++c) sum += u_c[c][i] * u_c[c][i];
+        return sum;
+      }();
       alpha.push_back(a);
       const double b = std::sqrt(b2);
       if ((it + 1) % 10 == 0 || b == 0 || it + 1 == max_iterations) {
@@ -131,12 +142,14 @@ double Solver::finite_omega2_max(int max_iterations) {
       }
       beta.push_back(b);
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t k = 0; k < nk; ++k) {
-        double& uk = u_c[static_cast<std::size_t>(k) % dofs][static_cast<std::size_t>(k) / dofs];
-        const double next = uk / b;  // v_prev <- v, v <- w / b
-        uk = v[static_cast<std::size_t>(k)];
-        v[static_cast<std::size_t>(k)] = next;
-      }
+      for (std::ptrdiff_t i = 0; i < ni; ++i)
+        for (std::size_t c = 0; c < dofs; ++c) {
+          const std::size_t k = dofs * static_cast<std::size_t>(i) + c;
+          double& uk = u_c[c][i];
+          const double next = uk / b;  // v_prev <- v, v <- w / b
+          uk = v[k];
+          v[k] = next;
+        }
       beta_prev = b;
     }
   }
