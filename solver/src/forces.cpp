@@ -478,6 +478,29 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   if (mode != 0) m.newly_broken[b] = static_cast<std::uint8_t>(1 + mode);
 }
 
+/// Current length and unit vector of the bond from disk i to disk j: the reference vector
+/// plus the relative displacement (no cancellation of the positions).
+struct BondGeometry {
+  double len, nx, ny;
+};
+inline BondGeometry bond_geometry(const double* __restrict x0, const double* __restrict y0,
+                                  const double* __restrict ux, const double* __restrict uy, std::size_t i,
+                                  std::size_t j) {
+  const double dx = (x0[j] - x0[i]) + (ux[j] - ux[i]);
+  const double dy = (y0[j] - y0[i]) + (uy[j] - uy[i]);
+  const double len = std::sqrt(dx * dx + dy * dy);
+  return {len, dx / len, dy / len};
+}
+
+/// Eq. 2, rotation model: the shear displacement over the last step, dt [(v_j - v_i).s -
+/// (r_i omega_i + r_j omega_j)] with s = (-n_y, n_x) [m].
+inline double rotation_shear_increment(double dt, const double* __restrict vx, const double* __restrict vy,
+                                       const double* __restrict om, const double* __restrict radius,
+                                       std::size_t i, std::size_t j, double nx, double ny) {
+  const double sx = -ny, sy = nx;
+  return dt * ((vx[j] - vx[i]) * sx + (vy[j] - vy[i]) * sy - (radius[i] * om[i] + radius[j] * om[j]));
+}
+
 /// Pass B: bond forces. Normal: f_n = k_n (L - L0) with the current length (objective).
 /// Shear, rotation model (Eq. 1-2): f_s += k_s [(du_j - du_i).s - (r_i dtheta_i + r_j dtheta_j)]
 /// with the increments of the last step. Shear, local-strain model: u_s = d s.(eps_i+eps_j)/2.n
@@ -499,11 +522,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-    // The reference vector plus the relative displacement: no cancellation of the positions.
-    const double dx = (m.x0[j] - m.x0[i]) + (m.ux[j] - m.ux[i]);
-    const double dy = (m.y0[j] - m.y0[i]) + (m.uy[j] - m.uy[i]);
-    const double len = std::sqrt(dx * dx + dy * dy);
-    const double nx = dx / len, ny = dy / len;
+    const auto [len, nx, ny] = bond_geometry(m.x0.data(), m.y0.data(), m.ux.data(), m.uy.data(), i, j);
     m.nx[b] = nx;
     m.ny[b] = ny;
     if constexpr (Breakable) {
@@ -516,8 +535,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
     // or u_s from the disks' strains (local-strain model).
     double du_s = 0.0;
     if constexpr (Rotation) {
-      const double sx = -ny, sy = nx;
-      du_s = dt * ((vx[j] - vx[i]) * sx + (vy[j] - vy[i]) * sy - (m.radius[i] * om[i] + m.radius[j] * om[j]));
+      du_s = rotation_shear_increment(dt, vx, vy, om, m.radius.data(), i, j, nx, ny);
     } else {
       const double u_s = local_shear(m, static_cast<std::size_t>(b));
       du_s = u_s - m.u_s[b];
@@ -594,6 +612,49 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   }
 }
 
+/// Pass B for an elastic lattice (no plasticity, failure or J2 disks): the paper's Eq. 2.
+/// Normal spring on the current length, f_n = k_n (L - L0); shear spring, rotation model:
+/// f_s += k_s dt [(v_j - v_i).s - (r_i omega_i + r_j omega_j)], local-strain model:
+/// f_s = k_s u_s with u_s = g : (eps_i + eps_j). The same arithmetic as bond_forces (the
+/// same helpers), without its laws' branches.
+template <bool Rotation, bool PerKind>
+void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const double* __restrict vy,
+                         const double* __restrict om) {
+  const auto nb = static_cast<std::ptrdiff_t>(m.num_bonds());
+  const std::int32_t* __restrict bi = m.bi.data();
+  const std::int32_t* __restrict bj = m.bj.data();
+  const std::uint8_t* __restrict kind = m.spring_kind.data();
+  const double* __restrict kn = PerKind ? m.kind_k_n.data() : m.k_n.data();
+  const double* __restrict ks = PerKind ? m.kind_k_s.data() : m.k_s.data();
+  const double* __restrict x0 = m.x0.data();
+  const double* __restrict y0 = m.y0.data();
+  const double* __restrict ux = m.ux.data();
+  const double* __restrict uy = m.uy.data();
+  const double* __restrict radius = m.radius.data();
+  const double* __restrict rest = m.rest_length.data();
+  double* __restrict f_n = m.f_n.data();
+  double* __restrict f_s = m.f_s.data();
+  double* __restrict bnx = m.nx.data();
+  double* __restrict bny = m.ny.data();
+  double* __restrict bu_s = m.u_s.data();  // local-strain model only
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t b = 0; b < nb; ++b) {
+    const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
+    const auto i = static_cast<std::size_t>(bi[b]), j = static_cast<std::size_t>(bj[b]);
+    const auto [len, nx, ny] = bond_geometry(x0, y0, ux, uy, i, j);
+    bnx[b] = nx;
+    bny[b] = ny;
+    f_n[b] = kn[kb] * (len - rest[b]);
+    if constexpr (Rotation) {
+      f_s[b] += ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
+    } else {
+      const double u_s = local_shear(m, static_cast<std::size_t>(b));
+      bu_s[b] = u_s;
+      f_s[b] = ks[kb] * u_s;
+    }
+  }
+}
+
 /// The bond pass for each combination of laws, chosen once per pass instead of per bond.
 using BondKernel = void (*)(Model&, double, const double*, const double*, const double*);
 template <std::size_t K>
@@ -610,6 +671,15 @@ void compute_bond_forces(Model& m, double dt, const double* vx, const double* vy
   static constexpr std::array<BondKernel, 32> kernels = bond_kernels(std::make_index_sequence<32>{});
   const std::size_t k = (m.shear_model == ShearModel::Rotation ? 1U : 0U) | (m.any_plastic ? 2U : 0U) |
                         (m.any_breakable ? 4U : 0U) | (m.any_softening ? 8U : 0U) | (m.any_j2 ? 16U : 0U);
+  if (k < 2) {  // elastic
+    const bool per_kind = m.k_n.empty();
+    if (k == 1) {
+      per_kind ? elastic_bond_forces<true, true>(m, dt, vx, vy, om) : elastic_bond_forces<true, false>(m, dt, vx, vy, om);
+    } else {
+      per_kind ? elastic_bond_forces<false, true>(m, dt, vx, vy, om) : elastic_bond_forces<false, false>(m, dt, vx, vy, om);
+    }
+    return;
+  }
   kernels[k](m, dt, vx, vy, om);
 }
 
