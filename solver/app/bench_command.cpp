@@ -18,6 +18,7 @@
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/solver/case.hpp"
+#include "hexdem/solver/checkpoint.hpp"
 #include "hexdem/solver/solver.hpp"
 #include "subcommands.hpp"
 
@@ -215,6 +216,15 @@ int run_bench(const BenchArgs& a) {
   if (s.contacts_enabled())
     std::printf("  broken bonds %zu, contact pairs %zu, contact detection %.3f s\n", s.broken_bonds(),
                 s.contacts().size(), s.detection_seconds());
+  // Where the memory is: the members' heap bytes per disk, the largest first.
+  const auto census = solver::memory_census(s);
+  double held = 0;
+  for (const auto& e : census) held += static_cast<double>(e.second);
+  std::printf("  memory held after the run %.1f bytes/disk:", held / static_cast<double>(n_disks));
+  for (std::size_t k = 0; k < census.size() && k < 16; ++k)
+    std::printf("%s %s %.1f", k == 0 ? "" : ",", census[k].first.c_str(),
+                static_cast<double>(census[k].second) / static_cast<double>(n_disks));
+  std::printf("%s\n", census.size() > 16 ? ", ..." : "");
   std::printf("  peak resident memory %.6g MB (%.6g MB before meshing: %.6g bytes/disk beyond it)\n", peak / 1e6,
               rss_before / 1e6, (peak - rss_before) / static_cast<double>(n_disks));
   std::printf("particle-steps/s: %.6g\n", static_cast<double>(n_disks) * total_steps / step_s);

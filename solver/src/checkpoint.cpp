@@ -610,6 +610,58 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
   CheckpointAccess::rebuild_broad_phase(s, path);
 }
 
+namespace {
+
+/// Heap bytes of each member the lists name: a vector's capacity (and its rows'), and the
+/// broad phase's own count.
+class Census {
+ public:
+  template <class T>
+  void state(const char* name, const T& member) { add(name, member); }
+  template <class T>
+  void rebuilt(const char* name, const T& member) { add(name, member); }
+  template <class M>
+  void model(const char* name, const M& m) {
+    const std::string saved = prefix_;
+    prefix_ = saved + name + ".";
+    visit_model(m, *this);
+    prefix_ = saved;
+  }
+  std::vector<std::pair<std::string, std::size_t>> entries;
+
+ private:
+  template <class T>
+  static std::size_t heap(const T& value) {
+    if constexpr (is_vector<T>::value) {
+      std::size_t bytes = value.capacity() * sizeof(typename T::value_type);
+      if constexpr (is_vector<typename T::value_type>::value)
+        for (const auto& row : value) bytes += heap(row);
+      return bytes;
+    } else if constexpr (requires { value.memory_bytes(); }) {
+      return value.memory_bytes();
+    } else {
+      return 0;
+    }
+  }
+  template <class T>
+  void add(const char* name, const T& member) {
+    const std::size_t bytes = heap(member);
+    if (bytes > 0) entries.emplace_back(prefix_ + name, bytes);
+  }
+  std::string prefix_;
+};
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::size_t>> memory_census(const Solver& s) {
+  Census c;
+  CheckpointAccess::visit_solver(s, c);
+  std::sort(c.entries.begin(), c.entries.end(), [](const auto& a, const auto& b) {
+    return a.second != b.second ? a.second > b.second : a.first < b.first;
+  });
+  return c.entries;
+}
+
 std::vector<std::string> checkpoint_coverage_gaps(const Solver& s) {
   std::vector<std::string> out;
   Coverage solver(&s, sizeof(Solver), alignof(Solver), "Solver");

@@ -288,6 +288,7 @@ Model disk_and_bond_arrays(L& lat) {
     if constexpr (Take) {
       to = std::move(from);
       std::remove_reference_t<decltype(from)>().swap(from);
+      to.shrink_to_fit();  // the generator grew them by push_back (bonds: about 1.4x the size)
     } else {
       to = from;
     }
@@ -327,29 +328,33 @@ Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thicknes
   return build(lattice, std::move(m), geometry, thickness, shear_model, materials);
 }
 
-void reset_bond_history(Model& m) {
-  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s, &m.plastic_work, &m.fracture_energy,
-                  &m.contact_damping_work, &m.friction_work, &m.f_damp, &m.break_kinetic}) {
-    std::fill(v->begin(), v->end(), 0.0);
-  }
+void reset_force_history(Model& m) {
+  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s, &m.f_damp}) std::fill(v->begin(), v->end(), 0.0);
   if (!m.len_prev.empty()) m.len_prev = m.rest_length;
   const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
                      std::any_of(m.cracking.begin(), m.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
-  std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
   std::fill(m.hoop_cut.begin(), m.hoop_cut.end(), 0);
-  for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0, &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef,
-                  &m.hoop_fracture, &m.hoop_e_last, &m.hoop_break_kinetic}) {
+  for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0,
+                  &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_e_last}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   std::fill(m.cracking.begin(), m.cracking.end(), 0);
   for (auto* v : {&m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx, &m.beta_yy, &m.beta_xy,
-                  &m.beta_33,  &m.eps_p_eq, &m.sig_xx,
-                  &m.sig_yy, &m.sig_xy, &m.sig_33, &m.disk_plastic_work}) {
+                  &m.beta_33, &m.eps_p_eq, &m.sig_xx, &m.sig_yy, &m.sig_xy, &m.sig_33}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   if (broke) update_strain_matrices(m);
+}
+
+void reset_bond_history(Model& m) {
+  reset_force_history(m);
+  for (auto* v : {&m.plastic_work, &m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic,
+                  &m.hoop_fracture, &m.hoop_break_kinetic, &m.disk_plastic_work}) {
+    std::fill(v->begin(), v->end(), 0.0);
+  }
+  std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
 }
 
 void update_strain_matrix(Model& m, std::size_t i) {

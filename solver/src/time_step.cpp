@@ -72,7 +72,7 @@ double Solver::finite_omega2_max(int max_iterations) {
       m.uy[i] = eps * vi[1] * sy[i];
       m.theta[i] = spins ? eps * vi[2] * sw[i] : 0.0;
     }
-    reset_bond_history(m);  // every spring starts from zero: its increment is the probe
+    reset_force_history(m);  // every spring starts from zero: its increment is the probe
     compute_probe_forces(m);
     return eps;
   };

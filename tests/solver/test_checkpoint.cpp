@@ -111,6 +111,29 @@ TEST(Checkpoint, MemberListCoversModelAndSolver) {
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
 }
 
+TEST(Checkpoint, MemoryCensusCountsEveryHeldArray) {
+  // The census that `hexdem bench` prints: each member's heap bytes, largest first.
+  const Case c = parse_case(kImpact, "impact.toml", ".");
+  const Solver s(c, mesh_case(c));
+  const Model& m = s.model();
+  const auto census = memory_census(s);
+  ASSERT_FALSE(census.empty());
+  for (std::size_t k = 1; k < census.size(); ++k) EXPECT_GE(census[k - 1].second, census[k].second);
+  const auto bytes = [&](const std::string& name) -> std::size_t {
+    for (const auto& [n, b] : census)
+      if (n == name) return b;
+    return 0;
+  };
+  EXPECT_EQ(bytes("model.x0"), m.x0.capacity() * sizeof(double));
+  EXPECT_EQ(bytes("model.f_n"), m.f_n.capacity() * sizeof(double));
+  EXPECT_EQ(bytes("model.state"), m.state.capacity());
+  EXPECT_GE(bytes("model.x0"), m.num_disks() * sizeof(double));
+  // Contacts are on (bonds break): the broad phase counts its own work space.
+  EXPECT_GT(bytes("sweep"), m.num_disks() * 4 * sizeof(double));
+  // Empty arrays are not listed.
+  for (const auto& [n, b] : census) EXPECT_GT(b, 0u) << n;
+}
+
 TEST(Checkpoint, RoundTripRestoresEveryRecordAndContinuesBitIdentically) {
   const Case c = parse_case(kImpact, "impact.toml", ".");
   const meshing::Lattice lattice = mesh_case(c);

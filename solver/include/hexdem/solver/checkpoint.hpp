@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hexdem/io/vtu_writer.hpp"
@@ -71,6 +72,11 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run);
 /// after 'name'". Empty when the list is complete: a test fails when a member is added to
 /// Model or Solver without being added to the list in checkpoint.cpp.
 std::vector<std::string> checkpoint_coverage_gaps(const Solver& s);
+
+/// Heap bytes held by each member of Solver and its Model that the checkpoint's member lists
+/// name (vectors by capacity, the contact broad phase by its own count), largest first, as
+/// ("model.f_n", bytes): the memory census that `hexdem bench` prints.
+std::vector<std::pair<std::string, std::size_t>> memory_census(const Solver& s);
 
 /// Names of the records a checkpoint of `s` holds (for tests and documentation).
 std::vector<std::string> checkpoint_record_names(const Solver& s);

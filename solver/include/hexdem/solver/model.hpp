@@ -299,6 +299,12 @@ void update_strain_matrix(Model& m, std::size_t i);
 /// (plastic strain, back stress, plastic work).
 void reset_bond_history(Model& m);
 
+/// The part of reset_bond_history that the forces depend on: the springs' forces and
+/// back-forces, previous lengths, states, damage and the J2 disks' plastic state, but not the
+/// cumulative energies and break times, which no force reads (the critical-step probes reset
+/// this between force passes, and everything once at the end).
+void reset_force_history(Model& m);
+
 /// Computes internal forces at the current displacements into fx, fy, torque (overwriting),
 /// and the bond forces f_n, f_s. For the rotation model the shear force is incremented by
 /// k_s du_s with the increments dt*v, dt*omega of the last step (Eq. 2); the local-strain
