@@ -183,7 +183,7 @@ std::size_t SweepPrune::memory_bytes() const noexcept {
   std::size_t total = sizeof(*this);
   total += bytes(ref_x_) + bytes(ref_y_) + bytes(ref_r_);
   for (int a = 0; a < 2; ++a) {
-    total += bytes(box_lo_[a]) + bytes(box_hi_[a]) + bytes(axis_[a].ends) + bytes(axis_[a].pos);
+    total += bytes(axis_[a].ends) + bytes(axis_[a].pos);
   }
   total += bytes(pairs_) + bytes(next_) + bytes(flips_) + bytes(pending_) + bytes(refresh_);
   total += bytes(excl_off_) + bytes(excl_len_) + bytes(excl_nbr_);
@@ -193,8 +193,8 @@ std::size_t SweepPrune::memory_bytes() const noexcept {
 }
 
 bool SweepPrune::overlap(std::int32_t i, std::int32_t j) const noexcept {
-  return box_lo_[0][i] <= box_hi_[0][j] && box_lo_[0][j] <= box_hi_[0][i] &&
-         box_lo_[1][i] <= box_hi_[1][j] && box_lo_[1][j] <= box_hi_[1][i];
+  const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
+  return lo(0, a) <= hi(0, b) && lo(0, b) <= hi(0, a) && lo(1, a) <= hi(1, b) && lo(1, b) <= hi(1, a);
 }
 
 void SweepPrune::set_box(std::size_t i, double x, double y, double r) {
@@ -202,10 +202,12 @@ void SweepPrune::set_box(std::size_t i, double x, double y, double r) {
   ref_y_[i] = y;
   ref_r_[i] = r;
   const double w = r + half_margin_;  // the header's box rule, operation for operation
-  box_lo_[0][i] = x - w;
-  box_hi_[0][i] = x + w;
-  box_lo_[1][i] = y - w;
-  box_hi_[1][i] = y + w;
+  // Written into the end points in place: the order is restored by the caller (sift or
+  // sort_all).
+  axis_[0].ends[axis_[0].pos[2 * i]].value = x - w;
+  axis_[0].ends[axis_[0].pos[2 * i + 1]].value = x + w;
+  axis_[1].ends[axis_[1].pos[2 * i]].value = y - w;
+  axis_[1].ends[axis_[1].pos[2 * i + 1]].value = y + w;
 }
 
 void SweepPrune::build(const double* x, const double* y, const double* r, std::size_t n,
@@ -225,10 +227,7 @@ void SweepPrune::build(const double* x, const double* y, const double* r, std::s
   ref_x_.resize(n);
   ref_y_.resize(n);
   ref_r_.resize(n);
-  for (int a = 0; a < 2; ++a) {
-    box_lo_[a].resize(n);
-    box_hi_[a].resize(n);
-  }
+  init_ends();
   for (std::size_t i = 0; i < n; ++i) set_box(i, x[i], y[i], r[i]);
   sort_all();
   pending_.clear();
@@ -248,16 +247,28 @@ void SweepPrune::build(const double* x, const double* y, const double* r, std::s
   stats_.rebuilt = true;
 }
 
+// Every disk's two end points per axis, unsorted (minimum, maximum of disk i at 2i, 2i + 1),
+// for set_box to fill in before sort_all.
+void SweepPrune::init_ends() {
+  const auto n = static_cast<std::uint32_t>(n_);
+  for (int a = 0; a < 2; ++a) {
+    Axis& ax = axis_[a];
+    ax.ends.assign(2 * std::size_t{n}, {});
+    ax.pos.resize(2 * std::size_t{n});
+    for (std::uint32_t i = 0; i < n; ++i) {
+      ax.ends[2 * i].tag = i;
+      ax.ends[2 * i + 1].tag = kMaxBit | i;
+      ax.pos[2 * i] = 2 * i;
+      ax.pos[2 * i + 1] = 2 * i + 1;
+    }
+  }
+}
+
+// Sorts each axis's end points (their values set by set_box) and indexes their positions.
 void SweepPrune::sort_all() {
   const auto n = static_cast<std::uint32_t>(n_);
   for (int a = 0; a < 2; ++a) {
     Axis& ax = axis_[a];
-    ax.ends.resize(2 * std::size_t{n});
-    ax.pos.resize(2 * std::size_t{n});
-    for (std::uint32_t i = 0; i < n; ++i) {
-      ax.ends[2 * i] = {box_lo_[a][i], i};
-      ax.ends[2 * i + 1] = {box_hi_[a][i], kMaxBit | i};
-    }
     std::sort(ax.ends.begin(), ax.ends.end(), [](const EndPoint& p, const EndPoint& q) {
       return p.value < q.value || (p.value == q.value && p.tag < q.tag);
     });
@@ -280,7 +291,7 @@ void SweepPrune::find_all_pairs() {
   const double ymin = axis_[1].ends.front().value;
   const double span = axis_[1].ends.back().value - ymin;
   work_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) work_[i] = box_hi_[1][i] - box_lo_[1][i];
+  for (std::size_t i = 0; i < n; ++i) work_[i] = hi(1, i) - lo(1, i);
   std::nth_element(work_.begin(), work_.begin() + static_cast<std::ptrdiff_t>(n / 2), work_.end());
   double height = work_[n / 2];
   if (!(height > 0)) height = span / std::sqrt(static_cast<double>(n));
@@ -307,7 +318,7 @@ void SweepPrune::find_all_pairs() {
     band_start_.assign(nb + 1, 0);
     std::size_t entries = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t b0 = band_of(box_lo_[1][i]), b1 = band_of(box_hi_[1][i]);
+      const std::size_t b0 = band_of(lo(1, i)), b1 = band_of(hi(1, i));
       entries += b1 - b0 + 1;
       for (std::size_t b = b0; b <= b1; ++b) ++band_start_[b + 1];
       if (entries > 6 * n) break;
@@ -321,8 +332,7 @@ void SweepPrune::find_all_pairs() {
   for (const EndPoint& e : axis_[0].ends) {  // minima in x order: each band comes out sorted
     if (e.tag & kMaxBit) continue;
     const std::uint32_t i = e.tag;
-    const BandBox bb{box_lo_[0][i], box_hi_[0][i], box_lo_[1][i], box_hi_[1][i],
-                     static_cast<std::int32_t>(i)};
+    const BandBox bb{e.value, hi(0, i), lo(1, i), hi(1, i), static_cast<std::int32_t>(i)};
     const std::size_t b0 = band_of(bb.lo_y), b1 = band_of(bb.hi_y);
     for (std::size_t b = b0; b <= b1; ++b) band_boxes_[band_fill_[b]++] = bb;
   }
@@ -456,14 +466,11 @@ bool SweepPrune::update(const double* x, const double* y, const double* r) {
   }
 
   for (const std::uint32_t i : refresh_) {
-    const double old_hi[2] = {box_hi_[0][i], box_hi_[1][i]};
-    set_box(i, x[i], y[i], r[i]);
+    const double old_hi[2] = {hi(0, i), hi(1, i)};
+    set_box(i, x[i], y[i], r[i]);  // both axes' values; the order is restored below
     for (int a = 0; a < 2; ++a) {
-      Axis& ax = axis_[a];
-      ax.ends[ax.pos[2 * i]].value = box_lo_[a][i];
-      ax.ends[ax.pos[2 * i + 1]].value = box_hi_[a][i];
       // Move the leading end first so that the box's own end points never block each other.
-      if (box_hi_[a][i] > old_hi[a]) {
+      if (hi(a, i) > old_hi[a]) {
         sift(a, 2 * i + 1);
         sift(a, 2 * i);
       } else {

@@ -52,7 +52,7 @@ struct SweepStats {
 /// when a bond breaks. Not thread-safe; the results do not depend on the thread count or on
 /// the order of the calls that led to the current boxes.
 ///
-/// Memory (memory_bytes()): about 250 bytes per disk plus 30 per candidate pair and 8 per
+/// Memory (memory_bytes()): about 220 bytes per disk plus 30 per candidate pair and 8 per
 /// exclusion entry, including the work space of the full search, which is kept so that
 /// update() does not allocate once the pair list has reached its largest size.
 class SweepPrune {
@@ -116,7 +116,8 @@ class SweepPrune {
 
   /// Stored box of disk i [m].
   [[nodiscard]] SweepBox box(std::int32_t i) const noexcept {
-    return {box_lo_[0][i], box_hi_[0][i], box_lo_[1][i], box_hi_[1][i]};
+    const auto k = static_cast<std::size_t>(i);
+    return {lo(0, k), hi(0, k), lo(1, k), hi(1, k)};
   }
 
   /// Bytes held by this object, work space included.
@@ -148,7 +149,15 @@ class SweepPrune {
     std::int32_t disk;
   };
 
+  /// The stored box of disk i on axis a, read from its end points (the boxes are not kept
+  /// twice).
+  [[nodiscard]] double lo(int a, std::size_t i) const noexcept { return axis_[a].ends[axis_[a].pos[2 * i]].value; }
+  [[nodiscard]] double hi(int a, std::size_t i) const noexcept {
+    return axis_[a].ends[axis_[a].pos[2 * i + 1]].value;
+  }
+
   void start_exclusions(std::size_t n);
+  void init_ends();
   void finish_exclusions();
   void set_box(std::size_t i, double x, double y, double r);
   void sort_all();
@@ -164,8 +173,7 @@ class SweepPrune {
   double rebuild_fraction_ = kDefaultRebuildFraction;
 
   std::vector<double> ref_x_, ref_y_, ref_r_;  ///< reference state of each box [m]
-  std::vector<double> box_lo_[2], box_hi_[2];  ///< stored boxes per axis [m]
-  Axis axis_[2];
+  Axis axis_[2];  ///< per axis: the stored boxes' end points [m] (lo(), hi())
 
   std::vector<Pair> pairs_, next_;  ///< current list and merge buffer
   std::vector<Pair> flips_;         ///< pairs whose overlap toggled (with repeats)
