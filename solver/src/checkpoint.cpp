@@ -100,8 +100,8 @@ void visit_model(M& m, V& v) {
   v.state("plastic_work", m.plastic_work);
   v.state("fracture_energy", m.fracture_energy);
   v.state("break_kinetic", m.break_kinetic);
-  v.state("contact_damping_work", m.contact_damping_work);
-  v.state("friction_work", m.friction_work);
+  v.state("contact_rows", m.contact_rows);
+  v.state("contact_row", m.contact_row);
   v.state("newly_broken", m.newly_broken);
   // softening failure
   v.state("any_softening", m.any_softening);
@@ -115,7 +115,6 @@ void visit_model(M& m, V& v) {
   v.state("hoop_fracture", m.hoop_fracture);
   v.state("hoop_break_kinetic", m.hoop_break_kinetic);
   v.state("strength_scale", m.strength_scale); v.state("disk_strength_scale", m.disk_strength_scale);
-  v.state("f_damp", m.f_damp);
   v.rebuilt("fx_intact", m.fx_intact);  // work space of settle_broken_bonds
   v.rebuilt("fy_intact", m.fy_intact);
   v.rebuilt("torque_intact", m.torque_intact);

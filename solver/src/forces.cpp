@@ -339,13 +339,14 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
   const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.bond_mu(b),
                                 m.contact_damping};
   const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
-  laws::ContactState cs{m.f_n[b], m.f_s[b], m.f_damp[b]};
+  Model::ContactRow& c = m.contact_of(b);
+  laws::ContactState cs{m.f_n[b], m.f_s[b], c.f_damp};
   const laws::ContactStep st = law.update(cs, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
   m.f_n[b] = cs.f_n;
   m.f_s[b] = cs.f_s;
-  m.f_damp[b] = cs.f_v;
-  m.contact_damping_work[b] += st.damping_work(dt);
-  m.friction_work[b] += st.friction_dissipation_mid;
+  c.f_damp = cs.f_v;
+  c.damping_work += st.damping_work(dt);
+  c.friction_work += st.friction_dissipation_mid;
   m.len_prev[b] = len;
 }
 
@@ -898,8 +899,9 @@ BondDissipation bond_dissipation(const Model& m) {
   if (!m.hoop_break_kinetic.empty())
     d.break_kinetic +=
         deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_break_kinetic[i]; }, m.scratch);
-  d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work[b]; }, m.scratch);
-  d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.friction_work[b]; }, m.scratch);
+  // Over the bonds in their order, as every sum of the ledger (the rows are in break order).
+  d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work(b); }, m.scratch);
+  d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.contact_friction_work(b); }, m.scratch);
   return d;
 }
 
@@ -1000,12 +1002,13 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
       m.cracking[b] = 1;
     } else {
-      m.state[b] = m.newly_broken[b];  // BondState = 1 + FailureMode
+      // BondState = 1 + FailureMode; the contact's row starts at zero.
+      mark_broken(m, b, static_cast<BondState>(m.newly_broken[b]));
       m.break_time[b] = m.time;
       if (!m.damage.empty()) m.damage[b] = 1.0;
       // The bond becomes a contact that starts now: no shear history, the normal force of
       // its overlap (a bond that breaks in compression keeps pushing).
-      m.f_n[b] = m.f_s[b] = m.f_damp[b] = 0.0;
+      m.f_n[b] = m.f_s[b] = 0.0;
       if (!m.alpha_n.empty()) m.alpha_n[b] = m.alpha_s[b] = 0.0;
       if (!m.u_s.empty()) m.u_s[b] = 0.0;  // the local-strain or softening shear measure
       broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
@@ -1080,8 +1083,9 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       own_release = std::max(own - own_half - kept, 0.0);
       // The new contact's dashpot force acts from t_n: its half step before t_n is dashpot
       // work (f_v, the dashpot's part of f_n, opposes the approach: >= 0).
-      const double half_v = 0.5 * m.f_damp[b] * d_len;
-      m.contact_damping_work[b] += half_v;
+      Model::ContactRow& c = m.contact_of(b);
+      const double half_v = 0.5 * c.f_damp * d_len;
+      c.damping_work += half_v;
       dashpot += half_v;
     }
     m.fracture_energy[b] += own_release;

@@ -115,8 +115,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (plastic_springs)
     for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.plastic_work}) v->assign(nb, 0.0);
   if (breakable) {
-    for (auto* v : {&m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic, &m.f_damp})
-      v->assign(nb, 0.0);
+    for (auto* v : {&m.fracture_energy, &m.break_kinetic}) v->assign(nb, 0.0);
+    m.contact_row.assign(nb, -1);  // the broken bonds' contacts (Model::contact_of)
     // Per bond where the springs are (axisymmetric); otherwise recomputed (Model::bond_section).
     if (m.spring_kind.empty()) m.section.assign(nb, 0.0);
     m.body_mu.assign(materials.size(), 0.0);
@@ -329,7 +329,9 @@ Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thicknes
 }
 
 void reset_force_history(Model& m) {
-  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s, &m.f_damp}) std::fill(v->begin(), v->end(), 0.0);
+  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s}) std::fill(v->begin(), v->end(), 0.0);
+  m.contact_rows.clear();
+  std::fill(m.contact_row.begin(), m.contact_row.end(), -1);
   if (!m.len_prev.empty()) m.len_prev = m.rest_length;
   const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
                      std::any_of(m.cracking.begin(), m.cracking.end(), [](std::uint8_t c) { return c != 0; });
@@ -348,9 +350,18 @@ void reset_force_history(Model& m) {
   if (broke) update_strain_matrices(m);
 }
 
+void mark_broken(Model& m, std::size_t b, BondState s) {
+  HEXDEM_VERIFY(static_cast<std::uint8_t>(s) > 1 && !m.contact_row.empty(), "mark_broken: a breakable bond and a broken state");
+  m.state[b] = static_cast<std::uint8_t>(s);
+  if (m.contact_row[b] < 0) {
+    m.contact_row[b] = static_cast<std::int32_t>(m.contact_rows.size());
+    m.contact_rows.emplace_back();
+  }
+}
+
 void reset_bond_history(Model& m) {
   reset_force_history(m);
-  for (auto* v : {&m.plastic_work, &m.fracture_energy, &m.contact_damping_work, &m.friction_work, &m.break_kinetic,
+  for (auto* v : {&m.plastic_work, &m.fracture_energy, &m.break_kinetic,
                   &m.hoop_fracture, &m.hoop_break_kinetic, &m.disk_plastic_work}) {
     std::fill(v->begin(), v->end(), 0.0);
   }

@@ -127,7 +127,7 @@ TEST(BondFailure, BrokenBondIsACompressionOnlyContact) {
   bm[0].material = &mat;
   bm[0].springs = spring_constants(mat.stiffness(Geometry::PlaneStress));
   Model m = build_model(two_disks(r), Geometry::PlaneStress, 1.0, ShearModel::Rotation, bm);
-  m.state[0] = static_cast<std::uint8_t>(BondState::BrokenTension);
+  mark_broken(m, 0, BondState::BrokenTension);
   for (const double gap : {1e-6, -1e-6}) {  // apart, then overlapping
     m.ux[1] = gap;
     std::fill(m.vx.begin(), m.vx.end(), 0.0);

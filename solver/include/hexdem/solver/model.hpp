@@ -153,7 +153,17 @@ struct Model {
   std::vector<laws::MohrCoulombFailure> failure_laws;
   std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
   // Cumulative energies per bond [J], summed only when reported (deterministic).
-  std::vector<double> plastic_work, fracture_energy, contact_damping_work, friction_work;
+  std::vector<double> plastic_work, fracture_energy;
+  /// A broken bond's contact (state II): the dashpot's part of f_n at the last update [N],
+  /// and the cumulative dashpot and friction work [J].
+  struct ContactRow {
+    double f_damp = 0, damping_work = 0, friction_work = 0;
+  };
+  /// One row per broken bond, in the order they broke (settle_broken_bonds adds it), and each
+  /// bond's row, -1 while intact (allocated if any_breakable): these are zero on every intact
+  /// bond, so they are not stored per bond (contact_of(b)).
+  std::vector<ContactRow> contact_rows;
+  std::vector<std::int32_t> contact_row;
   /// The leap-frog kinetic energy that the bond's break or damage steps moved [J], of either
   /// sign: a change of the force at t_n by dF changes v(t-dt/2).v(t+dt/2)/2 by
   /// (dt/2) v(t-dt/2).dF. It is not energy the bond stored (that is fracture_energy, >= 0);
@@ -180,7 +190,6 @@ struct Model {
   /// Spatially random strength ([random]): factor on every strength of a bond / a disk's
   /// hoop strength; empty: 1.
   std::vector<double> strength_scale, disk_strength_scale;
-  std::vector<double> f_damp;  ///< broken bonds: the dashpot's part of f_n at the last update [N]
   /// Forces of the pass before settle_broken_bonds broke bonds [N, N m]: the break's
   /// kinetic-energy term compares them with the forces after it (allocated if any_breakable).
   std::vector<double> fx_intact, fy_intact, torque_intact;
@@ -259,6 +268,14 @@ struct Model {
   [[nodiscard]] std::int32_t disk_material(std::size_t i) const {
     return body_material[static_cast<std::size_t>(body[i])];
   }
+  [[nodiscard]] ContactRow& contact_of(std::size_t b) { return contact_rows[static_cast<std::size_t>(contact_row[b])]; }
+  /// Bond b's contact work, dashpot and friction [J] (0 while intact).
+  [[nodiscard]] double contact_damping_work(std::size_t b) const {
+    return contact_row[b] < 0 ? 0.0 : contact_rows[static_cast<std::size_t>(contact_row[b])].damping_work;
+  }
+  [[nodiscard]] double contact_friction_work(std::size_t b) const {
+    return contact_row[b] < 0 ? 0.0 : contact_rows[static_cast<std::size_t>(contact_row[b])].friction_work;
+  }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
@@ -302,8 +319,13 @@ void reset_bond_history(Model& m);
 /// The part of reset_bond_history that the forces depend on: the springs' forces and
 /// back-forces, previous lengths, states, damage and the J2 disks' plastic state, but not the
 /// cumulative energies and break times, which no force reads (the critical-step probes reset
-/// this between force passes, and everything once at the end).
+/// this between force passes, and everything once at the end). Every bond is intact after it:
+/// the broken bonds' contact rows go with their states.
 void reset_force_history(Model& m);
+
+/// Breaks bond b into state `s` (a BondState past Yielded) with a contact row of its own, as
+/// settle_broken_bonds does, without its energy bookkeeping (tests and hand-made states).
+void mark_broken(Model& m, std::size_t b, BondState s);
 
 /// Computes internal forces at the current displacements into fx, fy, torque (overwriting),
 /// and the bond forces f_n, f_s. For the rotation model the shear force is incremented by
