@@ -69,7 +69,10 @@ void Solver::setup_boundaries() {
           break;
         case BoundaryCondition::Kind::Symmetry:
           bits |= kFixRotation;
-          if (lattice_.set_distance[e] < 1e-3 * model_.radius[i]) model_.mirror_plane[i] = 1;
+          if (lattice_.set_distance[e] < 1e-3 * model_.radius[i]) {
+            if (model_.mirror_plane.empty()) model_.mirror_plane.assign(model_.num_disks(), 0);
+            model_.mirror_plane[i] = 1;
+          }
           break;
         case BoundaryCondition::Kind::Velocity:
           vs.disks.push_back(static_cast<std::int32_t>(i));

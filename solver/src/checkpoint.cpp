@@ -81,7 +81,6 @@ void visit_model(M& m, V& v) {
   v.state("u_s", m.u_s);
   v.state("state", m.state);
   v.state("bond_class", m.bond_class);
-  v.state("break_time", m.break_time);
   // plasticity, failure, contact of the bonds
   v.state("any_plastic", m.any_plastic);
   v.state("any_breakable", m.any_breakable);
@@ -98,10 +97,8 @@ void visit_model(M& m, V& v) {
   v.rebuilt("failure_laws", m.failure_laws);
   v.state("failure_tan_phi", m.failure_tan_phi);
   v.state("plastic_work", m.plastic_work);
-  v.state("fracture_energy", m.fracture_energy);
-  v.state("break_kinetic", m.break_kinetic);
-  v.state("contact_rows", m.contact_rows);
-  v.state("contact_row", m.contact_row);
+  v.state("failed_rows", m.failed_rows);
+  v.state("failed_row", m.failed_row);
   v.state("newly_broken", m.newly_broken);
   // softening failure
   v.state("any_softening", m.any_softening);

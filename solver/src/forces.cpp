@@ -40,7 +40,7 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
   const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
   // On a mirror plane the field is mirror-symmetric: no shear.
   return {gxx * mxx + gxy * mxy, gyx * mxy + gyy * myy,
-          m.mirror_plane[i] ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
+          m.on_mirror(i) ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
 }
 
 /// Pass A: least-squares strain of each disk over its intact bonds,
@@ -54,7 +54,7 @@ void disk_strain(Model& m, std::size_t i) {
     // Strain carried across changes of the fit (settle_broken_bonds): an affine offset.
     m.eps_xx[i] -= m.eps_off_xx[i];
     m.eps_yy[i] -= m.eps_off_yy[i];
-    if (!m.mirror_plane[i]) m.eps_xy[i] -= m.eps_off_xy[i];
+    if (!m.on_mirror(i)) m.eps_xy[i] -= m.eps_off_xy[i];
   }
 }
 
@@ -237,7 +237,7 @@ void j2_return_mapping(Model& m, std::size_t i) {
       dxx = c * xxx;
       dyy = c * xyy;
       d33 = c * x33;
-      dxy = m.mirror_plane[i] ? 0.0 : c * xxy;
+      dxy = m.on_mirror(i) ? 0.0 : c * xxy;
       const double hb = 2.0 / 3.0 * H;
       m.eps_p_xx[i] += dxx;
       m.eps_p_yy[i] += dyy;
@@ -339,7 +339,7 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
   const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.bond_mu(b),
                                 m.contact_damping};
   const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
-  Model::ContactRow& c = m.contact_of(b);
+  Model::FailedBond& c = m.failed(b);
   laws::ContactState cs{m.f_n[b], m.f_s[b], c.f_damp};
   const laws::ContactStep st = law.update(cs, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
   m.f_n[b] = cs.f_n;
@@ -401,8 +401,9 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       // energy passed through 0 and the negative part is the integrator's (break_kinetic).
       const double half = 0.5 * (m.kn(b) * delta * du_n + m.ks(b) * us * du_s);
       const double released = (d - m.damage[b]) * (e - half);
-      m.fracture_energy[b] += std::max(released, 0.0);
-      m.break_kinetic[b] += std::min(released, 0.0);
+      Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
+      f.fracture_energy += std::max(released, 0.0);
+      f.break_kinetic += std::min(released, 0.0);
       m.damage[b] = d;
       m.kappa[b] = delta;
     }
@@ -714,7 +715,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       syy += c * m.eps_p_yy[i];
       sxy += c * m.eps_p_xy[i];
     }
-    if (m.mirror_plane[i]) sxy = 0.0;  // the projection's adjoint (energy consistency)
+    if (m.on_mirror(i)) sxy = 0.0;  // the projection's adjoint (energy consistency)
     const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
     m.w_xx[i] = sxx * mxx + sxy * mxy;
     m.w_xy[i] = sxx * mxy + sxy * myy;
@@ -731,7 +732,7 @@ template <bool PairShear, bool StrainTerms, bool Hoop, bool Breakable, bool Mirr
 void gather_forces(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
   // Raw arrays: the loop writes only fx, fy, torque, which nothing in it reads.
-  const std::int64_t* __restrict offset = m.adj_offset.data();
+  const std::int32_t* __restrict offset = m.adj_offset.data();
   const std::int32_t* __restrict adj_entry = m.adj_entry.data();
   const double* __restrict bnx = m.nx.data();
   const double* __restrict bny = m.ny.data();
@@ -892,14 +893,14 @@ BondDissipation bond_dissipation(const Model& m) {
         m.num_disks(), [&](std::size_t i) { return m.disk_plastic_work[i] - j2_hardening_energy(m, i); }, m.scratch);
   }
   if (!m.any_breakable) return d;  // the failure arrays exist only for breakable models
-  d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.fracture_energy[b]; }, m.scratch);
+  // Over the bonds in their order, as every sum of the ledger (the rows are in failure order).
+  d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.bond_fracture_energy(b); }, m.scratch);
   if (!m.hoop_fracture.empty())
     d.fracture += deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_fracture[i]; }, m.scratch);
-  d.break_kinetic = deterministic_sum(nb, [&](std::size_t b) { return m.break_kinetic[b]; }, m.scratch);
+  d.break_kinetic = deterministic_sum(nb, [&](std::size_t b) { return m.bond_break_kinetic(b); }, m.scratch);
   if (!m.hoop_break_kinetic.empty())
     d.break_kinetic +=
         deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_break_kinetic[i]; }, m.scratch);
-  // Over the bonds in their order, as every sum of the ledger (the rows are in break order).
   d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work(b); }, m.scratch);
   d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.contact_friction_work(b); }, m.scratch);
   return d;
@@ -1001,10 +1002,11 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     if (starts_cracking) {
       // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
       m.cracking[b] = 1;
+      add_failed_row(m, b);
     } else {
       // BondState = 1 + FailureMode; the contact's row starts at zero.
       mark_broken(m, b, static_cast<BondState>(m.newly_broken[b]));
-      m.break_time[b] = m.time;
+      m.failed(b).break_time = m.time;
       if (!m.damage.empty()) m.damage[b] = 1.0;
       // The bond becomes a contact that starts now: no shear history, the normal force of
       // its overlap (a bond that breaks in compression keeps pushing).
@@ -1083,12 +1085,12 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       own_release = std::max(own - own_half - kept, 0.0);
       // The new contact's dashpot force acts from t_n: its half step before t_n is dashpot
       // work (f_v, the dashpot's part of f_n, opposes the approach: >= 0).
-      Model::ContactRow& c = m.contact_of(b);
+      Model::FailedBond& c = m.failed(b);
       const double half_v = 0.5 * c.f_damp * d_len;
       c.damping_work += half_v;
       dashpot += half_v;
     }
-    m.fracture_energy[b] += own_release;
+    m.failed(b).fracture_energy += own_release;  // every event has its row (above)
     coupled += before - energy() - own_release;
     // The event's weight: the energy its springs stored (kept in order, one per event).
     m.event_weights.push_back(own);
@@ -1116,7 +1118,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     breaks += m.newly_broken[b] != kStartsCracking;
     m.newly_broken[b] = 0;
     const double w = m.event_weights[event++];
-    m.break_kinetic[b] += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);
+    m.failed(b).break_kinetic += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);
   }
   m.event_weights.clear();  // keep their capacity: no allocation once grown
   m.event_half.clear();

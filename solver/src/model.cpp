@@ -49,7 +49,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   }
   if (plane_strain_nu) m.nu_zz.assign(n, 0.0);
   m.constraint.assign(n, 0);
-  m.mirror_plane.assign(n, 0);
+  // mirror_plane: allocated by the Solver if the case has a mirror plane (Model::on_mirror).
 
   // Mass from the cell area (physics.md section 1): m = rho A w, w = thickness (plane) or the
   // ring radius b of the cell centroid (axisymmetric, per radian); I = m r^2 / 2 is
@@ -115,8 +115,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (plastic_springs)
     for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.plastic_work}) v->assign(nb, 0.0);
   if (breakable) {
-    for (auto* v : {&m.fracture_energy, &m.break_kinetic}) v->assign(nb, 0.0);
-    m.contact_row.assign(nb, -1);  // the broken bonds' contacts (Model::contact_of)
+    m.failed_row.assign(nb, -1);  // the cracked and broken bonds' rows (Model::failed)
     // Per bond where the springs are (axisymmetric); otherwise recomputed (Model::bond_section).
     if (m.spring_kind.empty()) m.section.assign(nb, 0.0);
     m.body_mu.assign(materials.size(), 0.0);
@@ -126,7 +125,6 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       if (materials[k].material->breakable) m.body_failure_law[k] = static_cast<std::int32_t>(k);
     }
     m.newly_broken.assign(nb, 0);
-    m.break_time.assign(nb, -1.0);
   }
   for (const BodyMaterial& bm : materials) {
     laws::MohrCoulombFailure law;
@@ -236,6 +234,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     std::vector<std::uint8_t>().swap(m.bond_class);
 
   // Adjacency: incident bonds of each disk in ascending bond order (a fixed summation order).
+  HEXDEM_VERIFY(2 * nb < (std::size_t{1} << 31), "a lattice of more than 2^30 bonds: the adjacency's indices are 32-bit");
   m.adj_offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + bond_count[i];
   m.adj_entry.assign(2 * nb, 0);
@@ -244,7 +243,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (m.uses_strains) {
     m.adj_other.assign(2 * nb, 0);  // the reference vectors are x0[o] - x0[i] (Model::adj_ax)
   }
-  std::vector<std::int64_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
+  std::vector<std::int32_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = m.bi[b], j = m.bj[b];
     const auto pi = fill[static_cast<std::size_t>(i)]++, pj = fill[static_cast<std::size_t>(j)]++;
@@ -330,8 +329,8 @@ Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thicknes
 
 void reset_force_history(Model& m) {
   for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s}) std::fill(v->begin(), v->end(), 0.0);
-  m.contact_rows.clear();
-  std::fill(m.contact_row.begin(), m.contact_row.end(), -1);
+  m.failed_rows.clear();
+  std::fill(m.failed_row.begin(), m.failed_row.end(), -1);
   if (!m.len_prev.empty()) m.len_prev = m.rest_length;
   const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
                      std::any_of(m.cracking.begin(), m.cracking.end(), [](std::uint8_t c) { return c != 0; });
@@ -350,22 +349,26 @@ void reset_force_history(Model& m) {
   if (broke) update_strain_matrices(m);
 }
 
-void mark_broken(Model& m, std::size_t b, BondState s) {
-  HEXDEM_VERIFY(static_cast<std::uint8_t>(s) > 1 && !m.contact_row.empty(), "mark_broken: a breakable bond and a broken state");
-  m.state[b] = static_cast<std::uint8_t>(s);
-  if (m.contact_row[b] < 0) {
-    m.contact_row[b] = static_cast<std::int32_t>(m.contact_rows.size());
-    m.contact_rows.emplace_back();
+Model::FailedBond& add_failed_row(Model& m, std::size_t b) {
+  if (m.failed_row[b] < 0) {
+    m.failed_row[b] = static_cast<std::int32_t>(m.failed_rows.size());
+    m.failed_rows.emplace_back();  // grows with the failures only: amortised, not per step
   }
+  return m.failed(b);
+}
+
+void mark_broken(Model& m, std::size_t b, BondState s) {
+  HEXDEM_VERIFY(static_cast<std::uint8_t>(s) > 1 && !m.failed_row.empty(), "mark_broken: a breakable bond and a broken state");
+  m.state[b] = static_cast<std::uint8_t>(s);
+  add_failed_row(m, b);
 }
 
 void reset_bond_history(Model& m) {
   reset_force_history(m);
-  for (auto* v : {&m.plastic_work, &m.fracture_energy, &m.break_kinetic,
+  for (auto* v : {&m.plastic_work,
                   &m.hoop_fracture, &m.hoop_break_kinetic, &m.disk_plastic_work}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
-  std::fill(m.break_time.begin(), m.break_time.end(), -1.0);
 }
 
 void update_strain_matrix(Model& m, std::size_t i) {

@@ -320,7 +320,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
                               [cc](std::size_t k) { return cc->f_n[k]; }));
   g.cell_data.push_back(cells("shear_force", io::ScalarType::Float64, [&m](std::size_t b) { return m.f_s[b]; },
                               [cc](std::size_t k) { return cc->f_s[k]; }));
-  g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.break_time.empty() ? -1.0 : m.break_time[b]; },
+  g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.bond_break_time(b); },
                               [](std::size_t) { return -1.0; }));
   if (m.any_softening)
     g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.damage[b]; },

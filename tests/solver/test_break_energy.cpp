@@ -87,7 +87,7 @@ void check_break(const std::string& angle) {
   EXPECT_EQ(m.eps_yy[j], eps_j[1]);
   EXPECT_EQ(m.eps_xy[j], eps_j[2]);
   // The release is the bond's own springs' energy, and the model lost exactly that.
-  EXPECT_NEAR(m.fracture_energy[b], stored, 1e-12 * stored) << angle;
+  EXPECT_NEAR(m.bond_fracture_energy(b), stored, 1e-12 * stored) << angle;
   EXPECT_NEAR(before - elastic_energy(m), stored, 1e-9 * stored) << angle;
   // From now on the disks' strains follow their new fits: one more increment moves them.
   for (std::size_t k = 0; k < m.num_disks(); ++k) m.ux[k] += 1e-7 * m.y0[k] / 0.02;
@@ -125,12 +125,12 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
     // A stretched bond releases all its springs held; one in compression leaves its overlap's
     // energy to the contact that replaces it. Either way the model loses exactly the release.
     if (stretched_now) {
-      EXPECT_NEAR(m.fracture_energy[b], stored, 1e-12 * stored) << "break " << broken;
+      EXPECT_NEAR(m.bond_fracture_energy(b), stored, 1e-12 * stored) << "break " << broken;
     }
-    EXPECT_NEAR(before - elastic_energy(m), m.fracture_energy[b], 1e-9 * std::max(stored, 1e-3 * before))
+    EXPECT_NEAR(before - elastic_energy(m), m.bond_fracture_energy(b), 1e-9 * std::max(stored, 1e-3 * before))
         << "break " << broken;
-    EXPECT_GE(m.fracture_energy[b], 0.0);
-    EXPECT_LE(m.fracture_energy[b], stored * (1 + 1e-12));
+    EXPECT_GE(m.bond_fracture_energy(b), 0.0);
+    EXPECT_LE(m.bond_fracture_energy(b), stored * (1 + 1e-12));
     EXPECT_EQ(m.eps_xx[i], eps[0]);
     EXPECT_EQ(m.eps_yy[i], eps[1]);
     EXPECT_EQ(m.eps_xy[i], eps[2]);
@@ -214,7 +214,7 @@ damping = 0.5
   }
   r.fracture = s.energy().fracture;
   r.break_kinetic = s.energy().break_kinetic;
-  for (double f : s.model().fracture_energy) r.min_bond = std::min(r.min_bond, f);
+  for (std::size_t b = 0; b < s.model().num_bonds(); ++b) r.min_bond = std::min(r.min_bond, s.model().bond_fracture_energy(b));
   return r;
 }
 

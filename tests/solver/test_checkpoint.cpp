@@ -105,8 +105,8 @@ TEST(Checkpoint, MemberListCoversModelAndSolver) {
   // Every per-disk and per-bond state vector named in the issue is stored.
   const std::vector<std::string> names = checkpoint_record_names(s);
   for (const char* want : {"model.ux", "model.vx", "model.omega", "model.f_n", "model.u_s", "model.alpha_n",
-                           "model.eps_p_xx", "model.beta_33", "model.state", "model.break_time", "model.plastic_work",
-                           "model.fracture_energy", "model.disk_plastic_work", "model.minv_xx", "contacts", "wall_fn.0",
+                           "model.eps_p_xx", "model.beta_33", "model.state", "model.failed_rows", "model.failed_row", "model.plastic_work",
+                           "model.disk_plastic_work", "model.minv_xx", "contacts", "wall_fn.0",
                            "energy", "ext_b_before", "damp_a", "step", "time", "run.frame_times", "run.energy_bytes"})
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
 }

@@ -240,7 +240,7 @@ TEST(BondFailure, NotchedBarBreaksAtTheNotchAndConservesMomentum) {
   // notch root (bonds at 1.75-2.25 mm; the bound was 1.5 spacings before).
   std::size_t early = 0;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    if (m.bond_intact(b) || m.break_time[b] > 30e-6) continue;
+    if (m.bond_intact(b) || m.bond_break_time(b) > 30e-6) continue;
     const double x = 0.5 * (m.x0[m.bi[b]] + m.x0[m.bj[b]]);
     EXPECT_LE(std::abs(x - xm), 2.5 * 2 * 0.5e-3 + 1e-9) << "bond broken away from the notch at x = " << x;
     EXPECT_EQ(m.state[b], static_cast<std::uint8_t>(BondState::BrokenTension));

@@ -171,7 +171,7 @@ BarResult run_bar(const std::string& text) {
   r.fracture = s.energy().fracture;
   r.break_kinetic = s.energy().break_kinetic;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    r.min_bond_fracture = std::min(r.min_bond_fracture, m.fracture_energy[b]);
+    r.min_bond_fracture = std::min(r.min_bond_fracture, m.bond_fracture_energy(b));
     r.cracked += (!m.bond_intact(b) || m.cracking[b]) ? 1 : 0;
   }
   return r;

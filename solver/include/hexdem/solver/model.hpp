@@ -72,7 +72,7 @@ struct Model {
   /// Symmetry planes: disks on an axis-aligned mirror plane have no shear strain (their
   /// local strain and its conjugate are projected on the mirror-symmetric part), and disks
   /// one radius off it are tied to it by the normal spring of the bond to their mirror image.
-  std::vector<std::uint8_t> mirror_plane;  ///< 1 if the disk lies on a mirror plane
+  std::vector<std::uint8_t> mirror_plane;  ///< 1 if the disk lies on a mirror plane; empty without one (on_mirror)
   std::vector<double> wall_kx, wall_ky;    ///< spring to a mirror plane [N/m]: F = -k u
   std::vector<double> wall_sx, wall_sy;    ///< +-1: side of the plane (outward normal), 0 none
 
@@ -127,7 +127,6 @@ struct Model {
   /// 1 along the lattice axis, 2 the other directions: read through bond_class_of(b); stored
   /// per bond only where the stiffnesses are (axisymmetric), otherwise the spring kind has it.
   std::vector<std::uint8_t> bond_class;
-  std::vector<double> break_time;      ///< [s], -1 while intact
 
   // Plasticity, failure and contact of the bonds (physics.md sections 7, 8).
   bool any_plastic = false;              ///< some bond has a yield force
@@ -153,22 +152,23 @@ struct Model {
   std::vector<laws::MohrCoulombFailure> failure_laws;
   std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
   // Cumulative energies per bond [J], summed only when reported (deterministic).
-  std::vector<double> plastic_work, fracture_energy;
-  /// A broken bond's contact (state II): the dashpot's part of f_n at the last update [N],
-  /// and the cumulative dashpot and friction work [J].
-  struct ContactRow {
+  std::vector<double> plastic_work;
+  /// A bond that has started to crack or has broken: its fracture energy (what its damage
+  /// steps and its break released, >= 0) and the leap-frog kinetic energy that they moved, of
+  /// either sign (a change of the force at t_n by dF changes v(t-dt/2).v(t+dt/2)/2 by
+  /// (dt/2) v(t-dt/2).dF: O(dt), not energy the bond stored; docs/model.md, "Energy at a
+  /// break") [J]; its break time [s] (-1 until it breaks); and once broken, its contact
+  /// (state II): the dashpot's part of f_n at the last update [N] and the cumulative dashpot
+  /// and friction work [J].
+  struct FailedBond {
+    double fracture_energy = 0, break_kinetic = 0, break_time = -1;
     double f_damp = 0, damping_work = 0, friction_work = 0;
   };
-  /// One row per broken bond, in the order they broke (settle_broken_bonds adds it), and each
-  /// bond's row, -1 while intact (allocated if any_breakable): these are zero on every intact
-  /// bond, so they are not stored per bond (contact_of(b)).
-  std::vector<ContactRow> contact_rows;
-  std::vector<std::int32_t> contact_row;
-  /// The leap-frog kinetic energy that the bond's break or damage steps moved [J], of either
-  /// sign: a change of the force at t_n by dF changes v(t-dt/2).v(t+dt/2)/2 by
-  /// (dt/2) v(t-dt/2).dF. It is not energy the bond stored (that is fracture_energy, >= 0);
-  /// it is O(dt) (docs/model.md, "Energy at a break").
-  std::vector<double> break_kinetic;
+  /// One row per bond that has cracked or broken, in the order they did (settle_broken_bonds
+  /// adds it), and each bond's row, -1 before (allocated if any_breakable): all of it is zero
+  /// on every other bond, so it is not stored per bond (failed(b), bond_fracture_energy(b)...).
+  std::vector<FailedBond> failed_rows;
+  std::vector<std::int32_t> failed_row;
   /// 1 + FailureMode of a bond that the force pass found past its strength (it still acted
   /// intact in that pass), 0 otherwise; settle_broken_bonds breaks it and clears the flag.
   std::vector<std::uint8_t> newly_broken;
@@ -212,7 +212,7 @@ struct Model {
   std::vector<double> disk_plastic_work;  ///< work done on eps_p [J]
 
   // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
-  std::vector<std::int64_t> adj_offset;  ///< size num_disks + 1
+  std::vector<std::int32_t> adj_offset;  ///< size num_disks + 1 (2 x bonds < 2^31: build_model checks)
   /// The bond of each entry, b where the disk is the bond's bi and ~b (= -1 - b) where it is
   /// its bj: read through adj_bond(k) and adj_sign(k).
   std::vector<std::int32_t> adj_entry;
@@ -268,19 +268,23 @@ struct Model {
   [[nodiscard]] std::int32_t disk_material(std::size_t i) const {
     return body_material[static_cast<std::size_t>(body[i])];
   }
-  [[nodiscard]] ContactRow& contact_of(std::size_t b) { return contact_rows[static_cast<std::size_t>(contact_row[b])]; }
-  /// Bond b's contact work, dashpot and friction [J] (0 while intact).
-  [[nodiscard]] double contact_damping_work(std::size_t b) const {
-    return contact_row[b] < 0 ? 0.0 : contact_rows[static_cast<std::size_t>(contact_row[b])].damping_work;
+  [[nodiscard]] FailedBond& failed(std::size_t b) { return failed_rows[static_cast<std::size_t>(failed_row[b])]; }
+  /// Bond b's row, or that of a bond that never cracked (all zero, break time -1).
+  [[nodiscard]] const FailedBond& failed_or_none(std::size_t b) const {
+    static const FailedBond none;
+    return failed_row.empty() || failed_row[b] < 0 ? none : failed_rows[static_cast<std::size_t>(failed_row[b])];
   }
-  [[nodiscard]] double contact_friction_work(std::size_t b) const {
-    return contact_row[b] < 0 ? 0.0 : contact_rows[static_cast<std::size_t>(contact_row[b])].friction_work;
-  }
+  [[nodiscard]] double bond_fracture_energy(std::size_t b) const { return failed_or_none(b).fracture_energy; }
+  [[nodiscard]] double bond_break_kinetic(std::size_t b) const { return failed_or_none(b).break_kinetic; }
+  [[nodiscard]] double bond_break_time(std::size_t b) const { return failed_or_none(b).break_time; }
+  [[nodiscard]] double contact_damping_work(std::size_t b) const { return failed_or_none(b).damping_work; }
+  [[nodiscard]] double contact_friction_work(std::size_t b) const { return failed_or_none(b).friction_work; }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
   /// Bond b has bilinear hardening springs (Eq. 16); the arrays exist only if some do.
   [[nodiscard]] bool yields(std::size_t b) const { return !f_yield.empty() && f_yield[b] > 0; }
+  [[nodiscard]] bool on_mirror(std::size_t i) const { return !mirror_plane.empty() && mirror_plane[i] != 0; }
   /// Some disk has a spring to a mirror plane (wall_* exist only then).
   [[nodiscard]] bool has_mirror_springs() const { return !wall_kx.empty(); }
 };
@@ -320,10 +324,13 @@ void reset_bond_history(Model& m);
 /// back-forces, previous lengths, states, damage and the J2 disks' plastic state, but not the
 /// cumulative energies and break times, which no force reads (the critical-step probes reset
 /// this between force passes, and everything once at the end). Every bond is intact after it:
-/// the broken bonds' contact rows go with their states.
+/// the failed bonds' rows go with their states.
 void reset_force_history(Model& m);
 
-/// Breaks bond b into state `s` (a BondState past Yielded) with a contact row of its own, as
+/// Bond b's FailedBond row, added if it has none (settle_broken_bonds, when a bond starts to
+/// crack or breaks).
+Model::FailedBond& add_failed_row(Model& m, std::size_t b);
+/// Breaks bond b into state `s` (a BondState past Yielded) with a row of its own, as
 /// settle_broken_bonds does, without its energy bookkeeping (tests and hand-made states).
 void mark_broken(Model& m, std::size_t b, BondState s);
 
