@@ -26,7 +26,7 @@ namespace hexdem::app {
 namespace {
 
 /// Bounds of the arguments (bad values exit 2 naming the option and the value).
-constexpr double kMinDisks = 10, kMaxDisks = 1e9;
+constexpr double kMinDisks = 10, kMaxDisks = 3e8;  // the model holds at most 2^30 bonds
 constexpr double kMaxSteps = 1e12;
 constexpr int kMaxThreads = 1024;
 /// Energy balance checked every this many steps, as `hexdem run` does without output.
@@ -95,7 +95,7 @@ meshing::Loop rectangle(double x0, double y0, double x1, double y1) {
 }
 
 int run_bench(const BenchArgs& a) {
-  const double disks_wanted = parse_count("--disks", a.disks, kMinDisks, kMaxDisks, "10..1e9");
+  const double disks_wanted = parse_count("--disks", a.disks, kMinDisks, kMaxDisks, "10..3e8");
   const auto steps = static_cast<std::int64_t>(parse_count("--steps", a.steps, 1, kMaxSteps, "1..1e12"));
   const int threads = static_cast<int>(parse_count("--threads", a.threads, 1, kMaxThreads, "1..1024"));
   solver::ShearModel shear = solver::ShearModel::LocalStrain;
@@ -240,7 +240,7 @@ Subcommand add_bench_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time the solver's step on a square block of about N disks; print particle-steps/s, bond-steps/s "
                "and peak bytes per disk");
-  cmd->add_option("--disks", args->disks, "About this many disks, 10..1e9 (default 100000)");
+  cmd->add_option("--disks", args->disks, "About this many disks, 10..3e8 (default 100000)");
   cmd->add_option("--model", args->model, "Shear model: rotation or local-strain (default local-strain)");
   cmd->add_flag("--failure", args->failure, "Breakable bonds: the failure checks run (strengths too high for breaks)");
   cmd->add_flag("--contacts", args->contacts, "Two bodies in contact: the contact detection runs every step");

@@ -234,7 +234,10 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     std::vector<std::uint8_t>().swap(m.bond_class);
 
   // Adjacency: incident bonds of each disk in ascending bond order (a fixed summation order).
-  HEXDEM_VERIFY(2 * nb < (std::size_t{1} << 31), "a lattice of more than 2^30 bonds: the adjacency's indices are 32-bit");
+  // The adjacency's indices are 32-bit: 2 x bonds < 2^31 (about 350 million disks).
+  if (2 * nb >= (std::size_t{1} << 31))
+    throw InputError("the lattice has " + std::to_string(nb) + " bonds; hexdem handles at most 1073741823 (about 350 million "
+                     "disks): use a larger [mesh] radius or a smaller region");
   m.adj_offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + bond_count[i];
   m.adj_entry.assign(2 * nb, 0);

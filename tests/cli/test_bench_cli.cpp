@@ -85,6 +85,7 @@ TEST(BenchCli, BadArgumentsExit2WithOneLine) {
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
       {"--disks 5 --steps 1", {"--disks", "5"}},
       {"--disks 2e9 --steps 1", {"--disks", "2e9"}},
+      {"--disks 5e8 --steps 1", {"--disks", "5e8", "3e8"}},  // past the 2^30 bonds a model holds
       {"--disks many --steps 1", {"--disks", "many"}},
       {"--disks 2000 --steps 0", {"--steps", "0"}},
       {"--disks 2000 --steps 1 --model spring", {"--model", "spring"}},
