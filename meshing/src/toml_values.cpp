@@ -22,7 +22,12 @@ std::string format_number(double value) {
 std::string describe(const toml::node& node) {
   if (const auto* i = node.as_integer()) return std::to_string(i->get());
   if (const auto* f = node.as_floating_point()) return format_number(f->get());
-  if (const auto* s = node.as_string()) return "\"" + escape_text(s->get()) + "\"";
+  if (const auto* s = node.as_string()) {
+    std::string quoted = "\"";  // appended, not "\"" + ...: GCC 12 warns (-Wrestrict) on that form
+    quoted += escape_text(s->get());
+    quoted += '"';
+    return quoted;
+  }
   std::ostringstream out;
   node.visit([&](const auto& n) { out << n; });
   std::string text = out.str();

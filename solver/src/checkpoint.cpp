@@ -221,9 +221,25 @@ namespace {
 
 // ---- writing ------------------------------------------------------------------------
 
-class Writer {
+/// The visitors' record names: a nested model's members are "<name>.<member>" (visit_solver
+/// calls v.model("model", ...)).
+template <class Derived>
+class Prefixed {
  public:
-  explicit Writer(std::string prefix = {}) : prefix_(std::move(prefix)) {}
+  template <class M>
+  void model(const char* name, M& m) {
+    const std::string saved = prefix_;
+    prefix_ = saved + name + ".";
+    visit_model(m, static_cast<Derived&>(*this));
+    prefix_ = saved;
+  }
+
+ protected:
+  std::string prefix_;
+};
+
+class Writer : public Prefixed<Writer> {
+ public:
 
   template <class T>
   void state(const char* name, const T& value) {
@@ -248,13 +264,6 @@ class Writer {
   }
   template <class T>
   void rebuilt(const char*, const T&) {}
-  template <class M>
-  void model(const char* name, const M& m) {
-    const std::string saved = prefix_;
-    prefix_ = saved + name + ".";
-    visit_model(m, *this);
-    prefix_ = saved;
-  }
   void text(const std::string& name, const std::string& value) { raw(name, value.data(), 1, value.size()); }
 
   void raw(const std::string& name, const void* data, std::size_t elem, std::size_t count) {
@@ -272,9 +281,6 @@ class Writer {
 
   std::string buf_;
   std::vector<std::string> names_;
-
- private:
-  std::string prefix_;
 };
 
 void save_run(Writer& w, const RunState& run) {
@@ -308,7 +314,7 @@ struct Record {
   const char* data = nullptr;
 };
 
-class Reader {
+class Reader : public Prefixed<Reader> {
  public:
   Reader(std::string path, std::map<std::string, Record> records)
       : path_(std::move(path)), records_(std::move(records)) {}
@@ -342,13 +348,6 @@ class Reader {
   }
   template <class T>
   void rebuilt(const char*, T&) {}
-  template <class M>
-  void model(const char* name, M& m) {
-    const std::string saved = prefix_;
-    prefix_ = saved + name + ".";
-    visit_model(m, *this);
-    prefix_ = saved;
-  }
   std::string text(const std::string& name) {
     const Record& r = find(name, 1);
     return std::string(r.data, r.count);
@@ -374,7 +373,6 @@ class Reader {
 
   std::string path_;
   std::map<std::string, Record> records_;
-  std::string prefix_;
 };
 
 void load_run(Reader& r, RunState& run) {
@@ -610,19 +608,12 @@ namespace {
 
 /// Heap bytes of each member the lists name: a vector's capacity (and its rows'), and the
 /// broad phase's own count.
-class Census {
+class Census : public Prefixed<Census> {
  public:
   template <class T>
   void state(const char* name, const T& member) { add(name, member); }
   template <class T>
   void rebuilt(const char* name, const T& member) { add(name, member); }
-  template <class M>
-  void model(const char* name, const M& m) {
-    const std::string saved = prefix_;
-    prefix_ = saved + name + ".";
-    visit_model(m, *this);
-    prefix_ = saved;
-  }
   std::vector<std::pair<std::string, std::size_t>> entries;
 
  private:
@@ -644,7 +635,6 @@ class Census {
     const std::size_t bytes = heap(member);
     if (bytes > 0) entries.emplace_back(prefix_ + name, bytes);
   }
-  std::string prefix_;
 };
 
 }  // namespace
