@@ -89,13 +89,12 @@ void SweepPrune::set_exclusions(const std::int32_t* offsets, const std::int32_t*
                   "excluded neighbour out of range: " + std::to_string(neighbours[k]));
   }
   start_exclusions(n);
-  // Symmetric CSR: count both directions, prefix sums, scatter.
+  // Each pair once, in the row of its lower disk: count, prefix sums, scatter.
   for (std::size_t i = 0; i < n; ++i) {
     for (std::int32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
       const auto j = static_cast<std::size_t>(neighbours[k]);
       if (j == i) continue;
-      ++excl_off_[i + 1];
-      ++excl_off_[j + 1];
+      ++excl_off_[std::min(i, j) + 1];
     }
   }
   for (std::size_t i = 0; i < n; ++i) excl_off_[i + 1] += excl_off_[i];
@@ -104,8 +103,8 @@ void SweepPrune::set_exclusions(const std::int32_t* offsets, const std::int32_t*
     for (std::int32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
       const auto j = static_cast<std::size_t>(neighbours[k]);
       if (j == i) continue;
-      excl_nbr_[excl_off_[i] + excl_len_[i]++] = static_cast<std::int32_t>(j);
-      excl_nbr_[excl_off_[j] + excl_len_[j]++] = static_cast<std::int32_t>(i);
+      const std::size_t lo = std::min(i, j);
+      excl_nbr_[excl_off_[lo] + excl_len_[lo]++] = static_cast<std::int32_t>(std::max(i, j));
     }
   }
   finish_exclusions();
@@ -113,6 +112,7 @@ void SweepPrune::set_exclusions(const std::int32_t* offsets, const std::int32_t*
 
 void SweepPrune::set_exclusion_pairs(const std::int32_t* i, const std::int32_t* j,
                                      std::size_t count, std::size_t n) {
+  HEXDEM_VERIFY(count < (std::size_t{1} << 32), "too many excluded pairs: " + std::to_string(count));
   for (std::size_t k = 0; k < count; ++k) {
     HEXDEM_VERIFY(i[k] >= 0 && j[k] >= 0 && static_cast<std::size_t>(i[k]) < n &&
                       static_cast<std::size_t>(j[k]) < n,
@@ -121,15 +121,14 @@ void SweepPrune::set_exclusion_pairs(const std::int32_t* i, const std::int32_t* 
   start_exclusions(n);
   for (std::size_t k = 0; k < count; ++k) {
     if (i[k] == j[k]) continue;
-    ++excl_off_[static_cast<std::size_t>(i[k]) + 1];
-    ++excl_off_[static_cast<std::size_t>(j[k]) + 1];
+    ++excl_off_[static_cast<std::size_t>(std::min(i[k], j[k])) + 1];
   }
   for (std::size_t d = 0; d < n; ++d) excl_off_[d + 1] += excl_off_[d];
   excl_nbr_.assign(excl_off_[n], 0);
   for (std::size_t k = 0; k < count; ++k) {
     if (i[k] == j[k]) continue;
-    excl_nbr_[excl_off_[i[k]] + excl_len_[i[k]]++] = j[k];
-    excl_nbr_[excl_off_[j[k]] + excl_len_[j[k]]++] = i[k];
+    const auto lo = static_cast<std::size_t>(std::min(i[k], j[k]));
+    excl_nbr_[excl_off_[lo] + excl_len_[lo]++] = std::max(i[k], j[k]);
   }
   finish_exclusions();
 }
@@ -150,6 +149,7 @@ bool SweepPrune::is_excluded(std::int32_t i, std::int32_t j) const {
   HEXDEM_ASSERT(i >= 0 && j >= 0 && static_cast<std::size_t>(i) < excl_n_ &&
                     static_cast<std::size_t>(j) < excl_n_,
                 "disk index out of range");
+  if (i > j) std::swap(i, j);  // the pair is in its lower disk's row
   const auto* first = excl_nbr_.data() + excl_off_[i];
   const auto* last = first + excl_len_[i];
   if (last - first <= 16) return std::find(first, last, j) != last;
@@ -167,10 +167,7 @@ bool SweepPrune::remove_exclusion(std::int32_t i, std::int32_t j) {
     --excl_len_[row];
     return true;
   };
-  if (!erase(i, j)) return false;
-  const bool symmetric = erase(j, i);
-  HEXDEM_ASSERT(symmetric, "exclusion rows out of step");
-  (void)symmetric;
+  if (!erase(std::min(i, j), std::max(i, j))) return false;  // the lower disk's row holds the pair
   // At rest the stored boxes and the end-point orders agree, so the values decide.
   if (built_ && overlap(i, j)) {
     pending_.push_back(ordered(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)));

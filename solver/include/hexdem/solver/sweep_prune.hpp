@@ -52,8 +52,8 @@ struct SweepStats {
 /// when a bond breaks. Not thread-safe; the results do not depend on the thread count or on
 /// the order of the calls that led to the current boxes.
 ///
-/// Memory (memory_bytes()): about 220 bytes per disk plus 30 per candidate pair and 8 per
-/// exclusion entry, including the work space of the full search, which is kept so that
+/// Memory (memory_bytes()): about 220 bytes per disk plus 30 per candidate pair and 4 per
+/// excluded pair, including the work space of the full search, which is kept so that
 /// update() does not allocate once the pair list has reached its largest size.
 class SweepPrune {
  public:
@@ -180,9 +180,10 @@ class SweepPrune {
   std::vector<Pair> pending_;       ///< pairs released by remove_exclusion()
   std::vector<std::uint32_t> refresh_;
 
-  // Exclusions: symmetric CSR, each row sorted, excl_len_[i] entries in use.
+  // Exclusions: CSR with each pair once, in the row of its lower disk; each row sorted,
+  // excl_len_[i] entries in use.
   std::size_t excl_n_ = 0;
-  std::vector<std::size_t> excl_off_;
+  std::vector<std::uint32_t> excl_off_;  // fewer than 2^31 pairs: the model holds at most 2^30 bonds
   std::vector<std::uint32_t> excl_len_;
   std::vector<std::int32_t> excl_nbr_;
 
