@@ -9,6 +9,7 @@
 #include <random>
 
 #include <Eigen/Dense>
+#include <omp.h>
 
 #include "hexdem/error.hpp"
 
@@ -55,15 +56,20 @@ double Solver::finite_omega2_max(int max_iterations) {
   // leaves the forces in fx, fy, torque and returns the scale eps.
   // The probe's shear increments are its displacements (compute_probe_forces), so the
   // velocity arrays hold the second vector, u, component by component.
-  auto probe = [&](const std::vector<double>& v) {
+  // The largest displacement that v scales to, for disk i (the spin's by its lever r).
+  const auto disk_umax = [&](const double* vi, std::size_t i) {
+    const double u = std::max(std::abs(vi[0] * sx[i]), std::abs(vi[1] * sy[i]));
+    return spins ? std::max(u, std::abs(vi[2] * sw[i]) * m.radius[i]) : u;
+  };
+  const auto largest = [&](const std::vector<double>& v) {
     double umax = 0;  // a maximum: the same in any order
 #pragma omp parallel for schedule(static) reduction(max : umax)
-    for (std::ptrdiff_t i = 0; i < ni; ++i) {
-      const double* vi = v.data() + dofs * static_cast<std::size_t>(i);
-      double u = std::max(std::abs(vi[0] * sx[i]), std::abs(vi[1] * sy[i]));
-      if (spins) u = std::max(u, std::abs(vi[2] * sw[i]) * m.radius[i]);  // the spin's lever
-      umax = std::max(umax, u);
-    }
+    for (std::ptrdiff_t i = 0; i < ni; ++i)
+      umax = std::max(umax, disk_umax(v.data() + dofs * static_cast<std::size_t>(i), static_cast<std::size_t>(i)));
+    return umax;
+  };
+  // umax: largest(v), which the previous iteration's update of v computes on the way.
+  auto probe = [&](const std::vector<double>& v, double umax) {
     const double eps = umax > 0 ? 1e-6 * r_min / umax : 1.0;
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < ni; ++i) {
@@ -99,32 +105,51 @@ double Solver::finite_omega2_max(int max_iterations) {
   if (norm > 0) {
     for (double& x : v) x /= std::sqrt(norm);
     double beta_prev = 0, lambda_prev = 0;
+    double umax = largest(v);
+    // One thread: each dot product in the same pass as the vector it reads (the same values,
+    // summed in the same order as the separate passes of several threads).
+    const bool one_thread = omp_get_max_threads() == 1;
     for (int it = 0; it < max_iterations; ++it) {
       dt_info_.finite_iterations = it + 1;
-      const double eps = probe(v);
+      const double eps = probe(v, umax);
       // The dot products in index order (the estimate, and so the step, do not depend on
-      // the thread count); the vector updates in parallel.
-      // A v once, in place of the forces (nothing reads them before the next probe).
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < ni; ++i)
-        for (std::size_t c = 0; c < dofs; ++c) y_c[c][i] = -y_c[c][i] / eps * s_c[c][i];
-      // The sums in locals of their own: a variable that a parallel region shares has its
-      // address taken, and the compiler kept it in memory through the whole loop.
+      // the thread count); the vector updates in parallel. A v is computed once, in place of
+      // the forces (nothing reads them before the next probe). The sums are in locals of
+      // their own: a variable that a parallel region shares has its address taken, and the
+      // compiler kept it in memory through the whole loop.
+      const auto a_v = [&](std::size_t i, std::size_t c) { return -y_c[c][i] / eps * s_c[c][i]; };
       const double a = [&] {
         double sum = 0;
+        if (one_thread) {
+          for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < dofs; ++c) sum += v[dofs * i + c] * (y_c[c][i] = a_v(i, c));
+          return sum;
+        }
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < ni; ++i)
+          for (std::size_t c = 0; c < dofs; ++c) y_c[c][i] = a_v(static_cast<std::size_t>(i), c);
         for (std::size_t i = 0; i < n; ++i)
           for (std::size_t c = 0; c < dofs; ++c) sum += v[dofs * i + c] * y_c[c][i];
         return sum;
       }();
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < ni; ++i)
-        for (std::size_t c = 0; c < dofs; ++c) {
-          const std::size_t k = dofs * static_cast<std::size_t>(i) + c;
-          double& uk = u_c[c][i];
-          uk = y_c[c][i] - (a * v[k] + beta_prev * uk);
-        }
+      const auto residual = [&](std::size_t i, std::size_t c) {
+        double& uk = u_c[c][i];
+        uk = y_c[c][i] - (a * v[dofs * i + c] + beta_prev * uk);
+        return uk;
+      };
       const double b2 = [&] {
         double sum = 0;
+        if (one_thread) {
+          for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < dofs; ++c) {
+              const double uk = residual(i, c);
+              sum += uk * uk;
+            }
+          return sum;
+        }
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < ni; ++i)
+          for (std::size_t c = 0; c < dofs; ++c) residual(static_cast<std::size_t>(i), c);
         for (std::size_t i = 0; i < n; ++i)
           for (std::size_t c = 0; c < dofs; ++c) sum += u_c[c][i] * u_c[c][i];
         return sum;
@@ -141,8 +166,9 @@ double Solver::finite_omega2_max(int max_iterations) {
         lambda_prev = lambda;
       }
       beta.push_back(b);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < ni; ++i)
+      double next_umax = 0;  // largest(v) of the new v, on the way
+#pragma omp parallel for schedule(static) reduction(max : next_umax)
+      for (std::ptrdiff_t i = 0; i < ni; ++i) {
         for (std::size_t c = 0; c < dofs; ++c) {
           const std::size_t k = dofs * static_cast<std::size_t>(i) + c;
           double& uk = u_c[c][i];
@@ -150,6 +176,9 @@ double Solver::finite_omega2_max(int max_iterations) {
           uk = v[k];
           v[k] = next;
         }
+        next_umax = std::max(next_umax, disk_umax(v.data() + dofs * static_cast<std::size_t>(i), static_cast<std::size_t>(i)));
+      }
+      umax = next_umax;
       beta_prev = b;
     }
   }
