@@ -240,7 +240,6 @@ class Prefixed {
 
 class Writer : public Prefixed<Writer> {
  public:
-
   template <class T>
   void state(const char* name, const T& value) {
     const std::string key = prefix_ + name;

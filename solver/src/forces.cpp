@@ -657,11 +657,21 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   }
 }
 
-/// The bond pass for each combination of laws, chosen once per pass instead of per bond.
+/// The bond pass for each combination of laws, chosen once per pass instead of per bond; an
+/// elastic lattice (K < 2: no plasticity, failure or J2) takes elastic_bond_forces.
 using BondKernel = void (*)(Model&, double, const double*, const double*, const double*);
 template <std::size_t K>
 void bond_forces_of(Model& m, double dt, const double* vx, const double* vy, const double* om) {
-  bond_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0>(m, dt, vx, vy, om);
+  constexpr bool rotation = (K & 1) != 0;
+  if constexpr (K < 2) {
+    if (m.k_n.empty()) {
+      elastic_bond_forces<rotation, true>(m, dt, vx, vy, om);  // stiffnesses per spring kind
+    } else {
+      elastic_bond_forces<rotation, false>(m, dt, vx, vy, om);
+    }
+  } else {
+    bond_forces<rotation, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0>(m, dt, vx, vy, om);
+  }
 }
 template <std::size_t... K>
 constexpr std::array<BondKernel, sizeof...(K)> bond_kernels(std::index_sequence<K...>) {
@@ -673,15 +683,6 @@ void compute_bond_forces(Model& m, double dt, const double* vx, const double* vy
   static constexpr std::array<BondKernel, 32> kernels = bond_kernels(std::make_index_sequence<32>{});
   const std::size_t k = (m.shear_model == ShearModel::Rotation ? 1U : 0U) | (m.any_plastic ? 2U : 0U) |
                         (m.any_breakable ? 4U : 0U) | (m.any_softening ? 8U : 0U) | (m.any_j2 ? 16U : 0U);
-  if (k < 2) {  // elastic
-    const bool per_kind = m.k_n.empty();
-    if (k == 1) {
-      per_kind ? elastic_bond_forces<true, true>(m, dt, vx, vy, om) : elastic_bond_forces<true, false>(m, dt, vx, vy, om);
-    } else {
-      per_kind ? elastic_bond_forces<false, true>(m, dt, vx, vy, om) : elastic_bond_forces<false, false>(m, dt, vx, vy, om);
-    }
-    return;
-  }
   kernels[k](m, dt, vx, vy, om);
 }
 

@@ -368,10 +368,10 @@ void mark_broken(Model& m, std::size_t b, BondState s) {
 
 void reset_bond_history(Model& m) {
   reset_force_history(m);
-  for (auto* v : {&m.plastic_work,
-                  &m.hoop_fracture, &m.hoop_break_kinetic, &m.disk_plastic_work}) {
+  // The cumulative energies kept per bond and disk (the failed bonds' rows went with the
+  // force history).
+  for (auto* v : {&m.plastic_work, &m.hoop_fracture, &m.hoop_break_kinetic, &m.disk_plastic_work})
     std::fill(v->begin(), v->end(), 0.0);
-  }
 }
 
 void update_strain_matrix(Model& m, std::size_t i) {

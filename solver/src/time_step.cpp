@@ -52,10 +52,6 @@ double Solver::finite_omega2_max(int max_iterations) {
   }
   double r_min = std::numeric_limits<double>::infinity();
   for (double r : m.radius) r_min = std::min(r_min, r);
-  // A v, through displacements small enough (1e-6 r) for the kernel to be linear: probe(v)
-  // leaves the forces in fx, fy, torque and returns the scale eps.
-  // The probe's shear increments are its displacements (compute_probe_forces), so the
-  // velocity arrays hold the second vector, u, component by component.
   // The largest displacement that v scales to, for disk i (the spin's by its lever r).
   const auto disk_umax = [&](const double* vi, std::size_t i) {
     const double u = std::max(std::abs(vi[0] * sx[i]), std::abs(vi[1] * sy[i]));
@@ -68,7 +64,11 @@ double Solver::finite_omega2_max(int max_iterations) {
       umax = std::max(umax, disk_umax(v.data() + dofs * static_cast<std::size_t>(i), static_cast<std::size_t>(i)));
     return umax;
   };
-  // umax: largest(v), which the previous iteration's update of v computes on the way.
+  // A v, through displacements small enough (1e-6 r) for the kernel to be linear:
+  // probe(v, largest(v)) leaves the forces in fx, fy, torque and returns the scale eps (the
+  // previous iteration's update of v computes largest(v) on the way). The probe's shear
+  // increments are its displacements (compute_probe_forces), so the velocity arrays hold the
+  // second vector, u, component by component.
   auto probe = [&](const std::vector<double>& v, double umax) {
     const double eps = umax > 0 ? 1e-6 * r_min / umax : 1.0;
 #pragma omp parallel for schedule(static)

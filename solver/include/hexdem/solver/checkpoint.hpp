@@ -31,6 +31,9 @@ namespace hexdem::solver {
 /// records how far `<case>.reactions.csv` got (run.reactions_bytes, run.reactions_hash).
 /// 3: the kinetic half step of breaks (model.break_kinetic, model.hoop_break_kinetic).
 /// 4: the time-step record holds the Lanczos iteration count (dt_info.finite_iterations).
+/// 5: spring stiffnesses per spring kind in plane models, no reference bond vectors.
+/// 6: no adjacency reference vectors or signs (model.adj_entry), 32-bit adjacency offsets,
+/// the material per body, the failed bonds' rows (model.failed_rows, model.failed_row).
 inline constexpr std::uint32_t kCheckpointVersion = 6;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.

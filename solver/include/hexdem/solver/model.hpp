@@ -268,6 +268,7 @@ struct Model {
   [[nodiscard]] std::int32_t disk_material(std::size_t i) const {
     return body_material[static_cast<std::size_t>(body[i])];
   }
+  /// Bond b's row; b must have one (it has cracked or broken: add_failed_row).
   [[nodiscard]] FailedBond& failed(std::size_t b) { return failed_rows[static_cast<std::size_t>(failed_row[b])]; }
   /// Bond b's row, or that of a bond that never cracked (all zero, break time -1).
   [[nodiscard]] const FailedBond& failed_or_none(std::size_t b) const {
