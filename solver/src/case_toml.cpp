@@ -166,9 +166,10 @@ constexpr Choices<Geometry, 3> kGeometries{{{"plane-stress", Geometry::PlaneStre
                                             {"axisymmetric", Geometry::Axisymmetric}}};
 constexpr Choices<ShearModel, 2> kShearModels{
     {{"local-strain", ShearModel::LocalStrain}, {"rotation", ShearModel::Rotation}}};
-constexpr Choices<PlasticityModel, 3> kPlasticityModels{{{"auto", PlasticityModel::Auto},
+constexpr Choices<PlasticityModel, 4> kPlasticityModels{{{"auto", PlasticityModel::Auto},
                                                         {"spring", PlasticityModel::Spring},
-                                                        {"j2", PlasticityModel::J2}}};
+                                                        {"j2", PlasticityModel::J2},
+                                                        {"drucker-prager", PlasticityModel::DruckerPrager}}};
 constexpr Choices<BoundaryCondition::Kind, 4> kBoundaryKinds{
     {{"fixed", BoundaryCondition::Kind::Fixed},
      {"roller", BoundaryCondition::Kind::Roller},
@@ -818,24 +819,45 @@ void Reader::read_materials(const toml::table& root, Case& c) const {
     else
       require(kOrthotropicKeys, "orthotropic");
     if (m.name.empty()) m.name = "material-" + std::to_string(m.id);
-    // Failure needs all of its strengths; plasticity needs both of its keys.
-    m.breakable = given(kFailureKeys);
+    // Failure needs all of its strengths; plasticity needs both of its keys. A Drucker-Prager
+    // material takes its cone from cohesion and friction_angle and does not break.
+    const bool dp = m.plasticity == PlasticityModel::DruckerPrager;
+    if (dp) {
+      for (std::string_view k : {"tensile_strength", "compressive_strength", "fracture_energy"})
+        if (const toml::node* n = t.get(k))
+          fail(*n, child(path, std::string(k)),
+               "plasticity = \"drucker-prager\" disks do not break (releasing a disk's plastic strain at a "
+               "break created energy, docs/model.md \"Drucker-Prager disks\"); drop " + std::string(k) +
+                   " (got " + describe(*n) + ")");
+    }
+    m.breakable = !dp && given(kFailureKeys);
     if (m.breakable) require(kFailureKeys, "breakable");
-    if (t.contains("yield_stress") != t.contains("tangent_modulus"))
+    if (!dp && t.contains("yield_stress") != t.contains("tangent_modulus"))
       fail(t, path, "give both yield_stress and tangent_modulus (plasticity) or neither");
     if (const toml::node* p = t.get("plasticity")) {
       const std::string where = child(path, "plasticity");
       const std::string value = "\"" + std::string(plasticity_model_name(m.plasticity)) + "\"";
-      if (!t.contains("yield_stress"))
+      if (dp) {
+        // The cone comes from the Mohr-Coulomb pair (Material::drucker_prager); hardening
+        // (tangent_modulus) is optional.
+        if (const toml::node* y = t.get("yield_stress"))
+          fail(*y, child(path, "yield_stress"),
+               "\"drucker-prager\" takes its yield from cohesion and friction_angle; drop yield_stress (got " +
+                   format_number(m.yield_stress) + ")");
+        if (!t.contains("cohesion") || !t.contains("friction_angle"))
+          fail(*p, where, "needs cohesion and friction_angle (got " + value + ")");
+      } else if (!t.contains("yield_stress")) {
         fail(*p, where, "needs yield_stress and tangent_modulus (got " + value + ")");
+      }
       // Disk-level J2 needs the out-of-plane strain (plane strain: zero; axisymmetry: u_r / r)
       // and the local strain of every disk.
-      if (m.plasticity == PlasticityModel::J2 && c.geometry == Geometry::PlaneStress)
+      const bool per_disk = m.plasticity == PlasticityModel::J2 || dp;
+      if (per_disk && c.geometry == Geometry::PlaneStress)
         fail(*p, where,
-             "\"j2\" is available in plane strain and axisymmetry only, not in plane stress; use \"spring\" "
+             value + " is available in plane strain and axisymmetry only, not in plane stress; use \"spring\" "
              "or \"auto\" (got " + value + ")");
-      if (m.plasticity == PlasticityModel::J2 && c.shear_model == ShearModel::Rotation)
-        fail(*p, where, "\"j2\" needs [case] shear_model = \"local-strain\" (got " + value + ")");
+      if (per_disk && c.shear_model == ShearModel::Rotation)
+        fail(*p, where, value + " needs [case] shear_model = \"local-strain\" (got " + value + ")");
     }
 
     if (const auto problem = m.check())

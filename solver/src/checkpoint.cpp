@@ -117,7 +117,8 @@ void visit_model(M& m, V& v) {
   v.rebuilt("torque_intact", m.torque_intact);
   // J2 disks
   v.state("any_j2", m.any_j2);
-  v.state("j2_sigma_y", m.j2_sigma_y); v.state("j2_h", m.j2_h);
+  v.state("j2_sigma_y", m.j2_sigma_y); v.state("j2_alpha", m.j2_alpha);
+  v.state("j2_h", m.j2_h);
   v.state("eps_p_xx", m.eps_p_xx); v.state("eps_p_yy", m.eps_p_yy);
   v.state("eps_p_xy", m.eps_p_xy); v.state("eps_p_33", m.eps_p_33);
   v.state("beta_xx", m.beta_xx); v.state("beta_yy", m.beta_yy);

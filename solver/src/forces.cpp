@@ -203,8 +203,8 @@ void store_j2_stress(Model& m, std::size_t i) {
 
 /// J2 return mapping of disk i (after the disk strains of pass A, before the bond forces).
 /// Trial stress sigma = C : (eps - eps_p), relative stress xi = dev(sigma) - beta, von Mises
-/// q = sqrt(3/2 xi:xi); if q > sigma_y, radial return with linear kinematic (Prager)
-/// hardening, exact for a linear hardening law:
+/// q = sqrt(3/2 xi:xi); if q > sigma_y (Drucker-Prager: max(k - alpha p, 0), p = tr sigma / 3),
+/// radial return with linear kinematic (Prager) hardening, exact for a linear hardening law:
 ///   d(eps_eq) = (q - sigma_y) / (3 mu + H),   d(eps_p) = d(eps_eq) (3/2) xi / q,
 ///   d(beta) = (2/3) H d(eps_p).
 /// The flow is deviatoric, so tr(eps_p) stays zero; on a mirror plane eps_p_xy stays zero.
@@ -231,8 +231,13 @@ void j2_return_mapping(Model& m, std::size_t i) {
     const double xxx = s.xx - mean - m.beta_xx[i], xyy = s.yy - mean - m.beta_yy[i];
     const double x33 = s.s33 - mean - m.beta_33[i], xxy = s.xy - m.beta_xy[i];
     const double q = std::sqrt(1.5 * (xxx * xxx + xyy * xyy + x33 * x33 + 2 * xxy * xxy));
-    if (q > sigma_y) {
-      deq = (q - sigma_y) / (3 * mu + H);
+    // Drucker-Prager (docs/model.md): the yield stress k - alpha p grows with confinement.
+    // The flow is deviatoric (non-associated, no dilatancy), so p is the same before and
+    // after the return and the radial return stays exact.
+    const double alpha = m.j2_alpha.empty() ? 0.0 : m.j2_alpha[i];
+    const double yield = alpha != 0 ? std::max(sigma_y - alpha * mean, 0.0) : sigma_y;
+    if (q > yield) {
+      deq = (q - yield) / (3 * mu + H);
       const double c = 1.5 * deq / q;
       dxx = c * xxx;
       dyy = c * xyy;

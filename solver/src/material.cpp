@@ -6,6 +6,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <numbers>
 
 #include "hexdem/error.hpp"
 
@@ -55,8 +56,15 @@ const char* plasticity_model_name(PlasticityModel p) {
       return "spring";
     case PlasticityModel::J2:
       return "j2";
+    case PlasticityModel::DruckerPrager:
+      return "drucker-prager";
   }
   return "unknown";
+}
+
+Material::DruckerPragerCone Material::drucker_prager() const {
+  const double phi = friction_angle * std::numbers::pi / 180.0, s = std::sin(phi);
+  return {6 * cohesion * std::cos(phi) / (3 - s), 6 * s / (3 - s)};
 }
 
 Stiffness2D Material::stiffness(Geometry g) const {
@@ -106,6 +114,17 @@ std::optional<MaterialIssue> Material::check() const {
                    "must not exceed compressive_strength = " + format_number(compressive_strength), tensile_strength);
     if (!(friction_angle >= 0.0 && friction_angle < 90.0))
       return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
+  }
+  if (plasticity == PlasticityModel::DruckerPrager) {
+    // The cone's k = 6 c cos(phi) / (3 - sin(phi)) must be > 0: a zero yield stress marks a
+    // disk without plasticity (Model::j2_sigma_y).
+    if (!(cohesion > 0.0) || !std::isfinite(cohesion))
+      return issue("cohesion", "must be > 0 [Pa] with plasticity = \"drucker-prager\"", cohesion);
+    if (!(friction_angle >= 0.0 && friction_angle < 90.0))
+      return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
+    if (breakable)
+      return issue("plasticity", "\"drucker-prager\" disks do not break (docs/model.md, \"Drucker-Prager disks\")",
+                   tensile_strength);
   }
   if (!(fracture_energy >= 0.0) || !std::isfinite(fracture_energy))
     return issue("fracture_energy", "must be >= 0 [J/m^2]", fracture_energy);

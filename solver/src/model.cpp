@@ -81,7 +81,14 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       // Prager's rule beta = (2/3) H eps_p with H the plastic modulus of the uniaxial
       // stress-strain curve of tangent E_t: 1/E_t = 1/E + 1/H.
       const double E = bm.material->E, Et = bm.material->tangent_modulus;
-      m.j2_sigma_y[i] = bm.material->yield_stress;
+      if (bm.material->plasticity == PlasticityModel::DruckerPrager) {
+        const Material::DruckerPragerCone dp = bm.material->drucker_prager();
+        if (m.j2_alpha.empty()) m.j2_alpha.assign(n, 0.0);  // only with a Drucker-Prager material
+        m.j2_sigma_y[i] = dp.k;
+        m.j2_alpha[i] = dp.alpha;
+      } else {
+        m.j2_sigma_y[i] = bm.material->yield_stress;
+      }
       m.j2_h[i] = E * Et / (E - Et);
     }
   }

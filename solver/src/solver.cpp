@@ -112,19 +112,26 @@ void Solver::setup_materials() {
                               ? std::string("drop yield_stress (elastic) for this material")
                               : std::string("plasticity = \"j2\" (or \"auto\"), or drop yield_stress")));
       }
-      if (model == PlasticityModel::J2 && case_.geometry == Geometry::PlaneStress)
-        throw InputError(what + ": plasticity = \"j2\" is available in plane strain and axisymmetry only");
-      if (model == PlasticityModel::J2 && case_.shear_model != ShearModel::LocalStrain)
-        throw InputError(what + ": plasticity = \"j2\" needs [case] shear_model = \"local-strain\"");
-      bm.j2 = model == PlasticityModel::J2;
+      const bool per_disk = model == PlasticityModel::J2 || model == PlasticityModel::DruckerPrager;
+      const std::string named = std::string("plasticity = \"") + plasticity_model_name(model) + "\"";
+      if (per_disk && case_.geometry == Geometry::PlaneStress)
+        throw InputError(what + ": " + named + " is available in plane strain and axisymmetry only");
+      if (per_disk && case_.shear_model != ShearModel::LocalStrain)
+        throw InputError(what + ": " + named + " needs [case] shear_model = \"local-strain\"");
+      bm.j2 = per_disk;
       body_materials_.back().j2 = bm.j2;
-      std::string line =
-          "material '" + mat->name + "' (id " + std::to_string(mat->id) + "): plasticity " +
-          (bm.j2 ? "j2 (von Mises per disk, linear kinematic hardening" : "spring (bilinear springs, Eq. 16") +
-          (mat->plasticity == PlasticityModel::Auto ? std::string(", chosen by auto: k_s ") +
-                                                          (positive ? "> 0)" : "<= 0)")
-                                                    : std::string(")")) +
-          ", sigma_y " + fmt(mat->yield_stress / 1e6) + " MPa, E_t " + fmt(mat->tangent_modulus / 1e9) + " GPa";
+      std::string line = "material '" + mat->name + "' (id " + std::to_string(mat->id) + "): plasticity ";
+      if (model == PlasticityModel::DruckerPrager) {
+        const Material::DruckerPragerCone dp = mat->drucker_prager();
+        line += "drucker-prager (per disk, q <= k - alpha p), k " + fmt(dp.k / 1e6) + " MPa, alpha " + fmt(dp.alpha) +
+                ", E_t " + fmt(mat->tangent_modulus / 1e9) + " GPa";
+      } else {
+        line += (bm.j2 ? "j2 (von Mises per disk, linear kinematic hardening" : "spring (bilinear springs, Eq. 16") +
+                (mat->plasticity == PlasticityModel::Auto
+                     ? std::string(", chosen by auto: k_s ") + (positive ? "> 0)" : "<= 0)")
+                     : std::string(")")) +
+                ", sigma_y " + fmt(mat->yield_stress / 1e6) + " MPa, E_t " + fmt(mat->tangent_modulus / 1e9) + " GPa";
+      }
       if (std::find(plasticity_report_.begin(), plasticity_report_.end(), line) == plasticity_report_.end())
         plasticity_report_.push_back(std::move(line));
     }

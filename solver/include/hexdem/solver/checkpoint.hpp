@@ -34,7 +34,8 @@ namespace hexdem::solver {
 /// 5: spring stiffnesses per spring kind in plane models, no reference bond vectors.
 /// 6: no adjacency reference vectors or signs (model.adj_entry), 32-bit adjacency offsets,
 /// the material per body, the failed bonds' rows (model.failed_rows, model.failed_row).
-inline constexpr std::uint32_t kCheckpointVersion = 6;
+/// 7: the Drucker-Prager disks (model.j2_alpha).
+inline constexpr std::uint32_t kCheckpointVersion = 7;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

@@ -23,8 +23,10 @@ const char* shear_model_name(ShearModel m);
 /// linear kinematic hardening per disk, the plastic strain acting as an eigenstrain of the
 /// springs (plane strain and axisymmetry); `Auto`, Spring when both shear springs are
 /// positive, else J2.
-enum class PlasticityModel { Auto, Spring, J2 };
-/// Name as written in case files: "auto", "spring", "j2".
+/// DruckerPrager: the J2 machinery with a pressure-dependent yield stress, fitted to the
+/// material's Mohr-Coulomb cohesion and friction angle (Material::drucker_prager).
+enum class PlasticityModel { Auto, Spring, J2, DruckerPrager };
+/// Name as written in case files: "auto", "spring", "j2", "drucker-prager".
 const char* plasticity_model_name(PlasticityModel p);
 
 /// 2D stiffness in the lattice frame (x = lattice axis) [Pa]:
@@ -79,7 +81,17 @@ struct Material {
 
   double friction = 0.5;  ///< Coulomb friction coefficient of contacts [-]
 
-  [[nodiscard]] bool plastic() const { return yield_stress > 0; }
+  [[nodiscard]] bool plastic() const { return yield_stress > 0 || plasticity == PlasticityModel::DruckerPrager; }
+
+  /// Drucker-Prager cone through the Mohr-Coulomb compression meridian (cohesion c,
+  /// friction angle phi): von Mises q <= k - alpha p with p the mean stress (tension > 0),
+  /// alpha = 6 sin(phi) / (3 - sin(phi)), k = 6 c cos(phi) / (3 - sin(phi)) [Pa]. Uniaxial
+  /// compression then yields at k / (1 - alpha / 3) = 2 c cos(phi) / (1 - sin(phi)), as
+  /// Mohr-Coulomb (Chen and Han, Plasticity for Structural Engineers, 1988, section 5.4).
+  struct DruckerPragerCone {
+    double k = 0, alpha = 0;
+  };
+  [[nodiscard]] DruckerPragerCone drucker_prager() const;
 
   /// The 2D stiffness for a geometry: isotropic E, nu become plane-stress or plane-strain
   /// constants (axisymmetric uses plane strain in the meridian plane); orthotropic c is used

@@ -202,6 +202,10 @@ struct Model {
   // some body uses it; empty otherwise.
   bool any_j2 = false;                   ///< some disk has J2 plasticity
   std::vector<double> j2_sigma_y;        ///< von Mises yield stress [Pa]; 0: not a J2 disk
+  /// Drucker-Prager pressure sensitivity alpha [-]: the yield stress is
+  /// max(j2_sigma_y - alpha p, 0) with p the mean stress (tension > 0); 0 for von Mises.
+  /// Allocated only when a material is Drucker-Prager.
+  std::vector<double> j2_alpha;
   std::vector<double> j2_h;              ///< Prager modulus H = E E_t / (E - E_t) [Pa]
   std::vector<double> eps_p_xx, eps_p_yy, eps_p_xy, eps_p_33;  ///< plastic strain [-]
   std::vector<double> beta_xx, beta_yy, beta_xy, beta_33;      ///< back stress (2/3) H eps_p [Pa]
