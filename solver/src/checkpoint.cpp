@@ -117,16 +117,16 @@ void visit_model(M& m, V& v) {
   v.rebuilt("torque_intact", m.torque_intact);
   // J2 disks
   v.state("any_j2", m.any_j2);
-  v.state("j2_sigma_y", m.j2_sigma_y); v.state("j2_alpha", m.j2_alpha);
-  v.state("j2_h", m.j2_h);
-  v.state("eps_p_xx", m.eps_p_xx); v.state("eps_p_yy", m.eps_p_yy);
-  v.state("eps_p_xy", m.eps_p_xy); v.state("eps_p_33", m.eps_p_33);
-  v.state("beta_xx", m.beta_xx); v.state("beta_yy", m.beta_yy);
-  v.state("beta_xy", m.beta_xy); v.state("beta_33", m.beta_33);
-  v.state("eps_p_eq", m.eps_p_eq);
-  v.state("sig_xx", m.sig_xx); v.state("sig_yy", m.sig_yy);
-  v.state("sig_xy", m.sig_xy); v.state("sig_33", m.sig_33);
-  v.state("disk_plastic_work", m.disk_plastic_work);
+  v.state("j2_sigma_y", m.j2.sigma_y); v.state("j2_alpha", m.j2.alpha);
+  v.state("j2_h", m.j2.h);
+  v.state("eps_p_xx", m.j2.eps_p_xx); v.state("eps_p_yy", m.j2.eps_p_yy);
+  v.state("eps_p_xy", m.j2.eps_p_xy); v.state("eps_p_33", m.j2.eps_p_33);
+  v.state("beta_xx", m.j2.beta_xx); v.state("beta_yy", m.j2.beta_yy);
+  v.state("beta_xy", m.j2.beta_xy); v.state("beta_33", m.j2.beta_33);
+  v.state("eps_p_eq", m.j2.eps_p_eq);
+  v.state("sig_xx", m.j2.sig_xx); v.state("sig_yy", m.j2.sig_yy);
+  v.state("sig_xy", m.j2.sig_xy); v.state("sig_33", m.j2.sig_33);
+  v.state("disk_plastic_work", m.j2.work);
   // adjacency
   v.state("adj_offset", m.adj_offset); v.state("adj_entry", m.adj_entry);
   v.state("adj_other", m.adj_other);

@@ -173,7 +173,7 @@ void update_hoop_damage(Model& m) {
 /// out-of-plane component (hoop strain, or 0 in plane strain) and tr(eps_p) = 0. Added to the
 /// elastic lattice, it makes the energy of a homogeneous field V psi(eps - eps_p).
 double j2_correction_energy(const Model& m, std::size_t i) {
-  const double pxx = m.eps_p_xx[i], pyy = m.eps_p_yy[i], pxy = m.eps_p_xy[i], p33 = m.eps_p_33[i];
+  const double pxx = m.j2.eps_p_xx[i], pyy = m.j2.eps_p_yy[i], pxy = m.j2.eps_p_xy[i], p33 = m.j2.eps_p_33[i];
   const double pp = pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy;
   const double ep = m.eps_xx[i] * pxx + m.eps_yy[i] * pyy + hoop_strain(m, i) * p33 + 2 * m.eps_xy[i] * pxy;
   return m.cell_area[i] * m.disk_weight(i) * m.hoop_mu[i] * (pp - 2 * ep);
@@ -186,8 +186,8 @@ struct DiskStress {
 };
 inline DiskStress j2_stress(const Model& m, std::size_t i) {
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
-  const double exx = m.eps_xx[i] - m.eps_p_xx[i], eyy = m.eps_yy[i] - m.eps_p_yy[i];
-  const double exy = m.eps_xy[i] - m.eps_p_xy[i], e33 = hoop_strain(m, i) - m.eps_p_33[i];
+  const double exx = m.eps_xx[i] - m.j2.eps_p_xx[i], eyy = m.eps_yy[i] - m.j2.eps_p_yy[i];
+  const double exy = m.eps_xy[i] - m.j2.eps_p_xy[i], e33 = hoop_strain(m, i) - m.j2.eps_p_33[i];
   const double lt = lam * (exx + eyy + e33);
   return {lt + 2 * mu * exx, lt + 2 * mu * eyy, 2 * mu * exy, lt + 2 * mu * e33};
 }
@@ -195,10 +195,10 @@ inline DiskStress j2_stress(const Model& m, std::size_t i) {
 /// Stores j2_stress of disk i: the "before" value of the next plastic increment's work.
 void store_j2_stress(Model& m, std::size_t i) {
   const DiskStress s = j2_stress(m, i);
-  m.sig_xx[i] = s.xx;
-  m.sig_yy[i] = s.yy;
-  m.sig_xy[i] = s.xy;
-  m.sig_33[i] = s.s33;
+  m.j2.sig_xx[i] = s.xx;
+  m.j2.sig_yy[i] = s.yy;
+  m.j2.sig_xy[i] = s.xy;
+  m.j2.sig_33[i] = s.s33;
 }
 
 /// J2 return mapping of disk i (after the disk strains of pass A, before the bond forces).
@@ -214,7 +214,7 @@ void store_j2_stress(Model& m, std::size_t i) {
 /// work. The work done on eps_p is summed with the trapezoid rule over the step,
 /// (1/2) V (sigma before + after) : d(eps_p), as the leap-frog energy balance needs.
 void j2_return_mapping(Model& m, std::size_t i) {
-  const double mu = m.hoop_mu[i], H = m.j2_h[i], sigma_y = m.j2_sigma_y[i];
+  const double mu = m.hoop_mu[i], H = m.j2.h[i], sigma_y = m.j2.sigma_y[i];
   double dxx = 0, dyy = 0, dxy = 0, d33 = 0, deq = 0;
   // Only disks with a complete neighbourhood (six intact bonds) flow: at an edge the
   // least-squares strain's energy V psi(eps) can exceed what the disk's few bonds carry, and
@@ -228,13 +228,13 @@ void j2_return_mapping(Model& m, std::size_t i) {
   if (intact == 6) {
     const DiskStress s = j2_stress(m, i);
     const double mean = (s.xx + s.yy + s.s33) / 3.0;
-    const double xxx = s.xx - mean - m.beta_xx[i], xyy = s.yy - mean - m.beta_yy[i];
-    const double x33 = s.s33 - mean - m.beta_33[i], xxy = s.xy - m.beta_xy[i];
+    const double xxx = s.xx - mean - m.j2.beta_xx[i], xyy = s.yy - mean - m.j2.beta_yy[i];
+    const double x33 = s.s33 - mean - m.j2.beta_33[i], xxy = s.xy - m.j2.beta_xy[i];
     const double q = std::sqrt(1.5 * (xxx * xxx + xyy * xyy + x33 * x33 + 2 * xxy * xxy));
     // Drucker-Prager (docs/model.md): the yield stress k - alpha p grows with confinement.
     // The flow is deviatoric (non-associated, no dilatancy), so p is the same before and
     // after the return and the radial return stays exact.
-    const double alpha = m.j2_alpha.empty() ? 0.0 : m.j2_alpha[i];
+    const double alpha = m.j2.alpha.empty() ? 0.0 : m.j2.alpha[i];
     const double yield = alpha != 0 ? std::max(sigma_y - alpha * mean, 0.0) : sigma_y;
     if (q > yield) {
       deq = (q - yield) / (3 * mu + H);
@@ -244,23 +244,23 @@ void j2_return_mapping(Model& m, std::size_t i) {
       d33 = c * x33;
       dxy = m.on_mirror(i) ? 0.0 : c * xxy;
       const double hb = 2.0 / 3.0 * H;
-      m.eps_p_xx[i] += dxx;
-      m.eps_p_yy[i] += dyy;
-      m.eps_p_xy[i] += dxy;
-      m.eps_p_33[i] += d33;
-      m.beta_xx[i] += hb * dxx;
-      m.beta_yy[i] += hb * dyy;
-      m.beta_xy[i] += hb * dxy;
-      m.beta_33[i] += hb * d33;
-      m.eps_p_eq[i] += deq;
+      m.j2.eps_p_xx[i] += dxx;
+      m.j2.eps_p_yy[i] += dyy;
+      m.j2.eps_p_xy[i] += dxy;
+      m.j2.eps_p_33[i] += d33;
+      m.j2.beta_xx[i] += hb * dxx;
+      m.j2.beta_yy[i] += hb * dyy;
+      m.j2.beta_xy[i] += hb * dxy;
+      m.j2.beta_33[i] += hb * d33;
+      m.j2.eps_p_eq[i] += deq;
     }
   }
-  const double xx = m.sig_xx[i], yy = m.sig_yy[i], xy = m.sig_xy[i], s33 = m.sig_33[i];
+  const double xx = m.j2.sig_xx[i], yy = m.j2.sig_yy[i], xy = m.j2.sig_xy[i], s33 = m.j2.sig_33[i];
   store_j2_stress(m, i);
   if (deq > 0) {
-    m.disk_plastic_work[i] += 0.5 * m.cell_area[i] * m.disk_weight(i) *
-                              ((xx + m.sig_xx[i]) * dxx + (yy + m.sig_yy[i]) * dyy +
-                               2 * (xy + m.sig_xy[i]) * dxy + (s33 + m.sig_33[i]) * d33);
+    m.j2.work[i] += 0.5 * m.cell_area[i] * m.disk_weight(i) *
+                              ((xx + m.j2.sig_xx[i]) * dxx + (yy + m.j2.sig_yy[i]) * dyy +
+                               2 * (xy + m.j2.sig_xy[i]) * dxy + (s33 + m.j2.sig_33[i]) * d33);
   }
 }
 
@@ -268,16 +268,16 @@ void return_mapping(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (m.j2_sigma_y[static_cast<std::size_t>(i)] > 0) j2_return_mapping(m, static_cast<std::size_t>(i));
+    if (m.j2.sigma_y[static_cast<std::size_t>(i)] > 0) j2_return_mapping(m, static_cast<std::size_t>(i));
   }
 }
 
 /// Stored hardening energy of J2 disk i, A w (1/3) H eps_p : eps_p [J]: with Prager's
 /// beta = (2/3) H eps_p it is the potential whose eps_p-derivative is beta.
 double j2_hardening_energy(const Model& m, std::size_t i) {
-  if (!(m.j2_sigma_y[i] > 0)) return 0.0;
-  const double pxx = m.eps_p_xx[i], pyy = m.eps_p_yy[i], pxy = m.eps_p_xy[i], p33 = m.eps_p_33[i];
-  return m.cell_area[i] * m.disk_weight(i) * m.j2_h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
+  if (!(m.j2.sigma_y[i] > 0)) return 0.0;
+  const double pxx = m.j2.eps_p_xx[i], pyy = m.j2.eps_p_yy[i], pxy = m.j2.eps_p_xy[i], p33 = m.j2.eps_p_33[i];
+  return m.cell_area[i] * m.disk_weight(i) * m.j2.h[i] / 3.0 * (pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy);
 }
 
 /// 1 - D of a cracking bond's shear spring, 1 otherwise.
@@ -590,7 +590,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
       // Bonds of J2 disks are elastic; they report the disks' yielding (bonds join the disks
       // of one body).
       if constexpr (J2) {
-        if (m.eps_p_eq[i] > 0 || m.eps_p_eq[j] > 0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+        if (m.j2.eps_p_eq[i] > 0 || m.j2.eps_p_eq[j] > 0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
       }
     }
     if constexpr (Plastic || Breakable) m.len_prev[b] = len;
@@ -715,11 +715,11 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       sxx += c;
       syy += c;
     }
-    if (m.any_j2 && m.j2_sigma_y[i] > 0) {
+    if (m.any_j2 && m.j2.sigma_y[i] > 0) {
       const double c = -2 * m.hoop_mu[i] * m.cell_area[i] * m.disk_weight(i);
-      sxx += c * m.eps_p_xx[i];
-      syy += c * m.eps_p_yy[i];
-      sxy += c * m.eps_p_xy[i];
+      sxx += c * m.j2.eps_p_xx[i];
+      syy += c * m.j2.eps_p_yy[i];
+      sxy += c * m.j2.eps_p_xy[i];
     }
     if (m.on_mirror(i)) sxy = 0.0;  // the projection's adjoint (energy consistency)
     const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
@@ -793,7 +793,7 @@ void gather_forces(Model& m) {
     if constexpr (Hoop) {
       // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
       double sigma_tt = hoop_stress(m, i).tt;
-      if constexpr (J2) sigma_tt -= 2 * m.hoop_mu[i] * m.eps_p_33[i];
+      if constexpr (J2) sigma_tt -= 2 * m.hoop_mu[i] * m.j2.eps_p_33[i];
       fx -= m.cell_area[i] * sigma_tt;
     }
     if constexpr (Mirror) {
@@ -881,7 +881,7 @@ double elastic_energy(const Model& m) {
     e += deterministic_sum(
         m.num_disks(),
         [&](std::size_t i) {
-          return m.j2_sigma_y[i] > 0 ? j2_correction_energy(m, i) + j2_hardening_energy(m, i) : 0.0;
+          return m.j2.sigma_y[i] > 0 ? j2_correction_energy(m, i) + j2_hardening_energy(m, i) : 0.0;
         },
         m.scratch);
   }
@@ -896,7 +896,7 @@ BondDissipation bond_dissipation(const Model& m) {
     // J2 disks: the work done on eps_p (bonds above, out-of-plane term here) less what the
     // back stress holds (booked as stored energy in elastic_energy).
     d.plastic += deterministic_sum(
-        m.num_disks(), [&](std::size_t i) { return m.disk_plastic_work[i] - j2_hardening_energy(m, i); }, m.scratch);
+        m.num_disks(), [&](std::size_t i) { return m.j2.work[i] - j2_hardening_energy(m, i); }, m.scratch);
   }
   if (!m.any_breakable) return d;  // the failure arrays exist only for breakable models
   // Over the bonds in their order, as every sum of the ledger (the rows are in failure order).
@@ -998,7 +998,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       }
       for (std::size_t i : disks) {
         if (hoop) e += hoop_energy(m, i);
-        if (m.any_j2 && m.j2_sigma_y[i] > 0) e += j2_correction_energy(m, i);
+        if (m.any_j2 && m.j2.sigma_y[i] > 0) e += j2_correction_energy(m, i);
       }
       return e;
     };
@@ -1073,7 +1073,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       // starts from is the one after the break.
       if (m.any_j2)
         for (std::size_t i : disks)
-          if (m.j2_sigma_y[i] > 0) store_j2_stress(m, i);
+          if (m.j2.sigma_y[i] > 0) store_j2_stress(m, i);
     }
     // The bond's own release: what its springs stored less their half step, the bilinear
     // form of the energy over the two steps (as for a damage step; >= 0 unless a measure
@@ -1170,13 +1170,13 @@ Stress disk_stress(const Model& m, std::size_t i) {
     st.xx += h.in_plane;
     st.yy += h.in_plane;
   }
-  if (m.any_j2 && m.j2_sigma_y[i] > 0) {
+  if (m.any_j2 && m.j2.sigma_y[i] > 0) {
     // The plastic correction's share: -2 mu eps_p (tr(eps_p) = 0).
     const double c = -2 * m.hoop_mu[i];
-    st.xx += c * m.eps_p_xx[i];
-    st.yy += c * m.eps_p_yy[i];
-    st.xy += c * m.eps_p_xy[i];
-    st.zz += c * m.eps_p_33[i];
+    st.xx += c * m.j2.eps_p_xx[i];
+    st.yy += c * m.j2.eps_p_yy[i];
+    st.xy += c * m.j2.eps_p_xy[i];
+    st.zz += c * m.j2.eps_p_33[i];
   }
   return st;
 }

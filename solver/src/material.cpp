@@ -117,7 +117,7 @@ std::optional<MaterialIssue> Material::check() const {
   }
   if (plasticity == PlasticityModel::DruckerPrager) {
     // The cone's k = 6 c cos(phi) / (3 - sin(phi)) must be > 0: a zero yield stress marks a
-    // disk without plasticity (Model::j2_sigma_y).
+    // disk without plasticity (DiskPlasticity::sigma_y).
     if (!(cohesion > 0.0) || !std::isfinite(cohesion))
       return issue("cohesion", "must be > 0 [Pa] with plasticity = \"drucker-prager\"", cohesion);
     if (!(friction_angle >= 0.0 && friction_angle < 90.0))

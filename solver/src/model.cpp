@@ -72,9 +72,9 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
                     "J2 plasticity needs plane strain or axisymmetry and the local-strain shear model");
       if (!m.any_j2) {
         m.any_j2 = true;
-        for (auto* v : {&m.j2_sigma_y, &m.j2_h, &m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx,
-                        &m.beta_yy, &m.beta_xy, &m.beta_33, 
-                        &m.eps_p_eq, &m.sig_xx, &m.sig_yy, &m.sig_xy, &m.sig_33, &m.disk_plastic_work}) {
+        for (auto* v : {&m.j2.sigma_y, &m.j2.h, &m.j2.eps_p_xx, &m.j2.eps_p_yy, &m.j2.eps_p_xy, &m.j2.eps_p_33, &m.j2.beta_xx,
+                        &m.j2.beta_yy, &m.j2.beta_xy, &m.j2.beta_33, 
+                        &m.j2.eps_p_eq, &m.j2.sig_xx, &m.j2.sig_yy, &m.j2.sig_xy, &m.j2.sig_33, &m.j2.work}) {
           v->assign(n, 0.0);
         }
       }
@@ -83,13 +83,13 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       const double E = bm.material->E, Et = bm.material->tangent_modulus;
       if (bm.material->plasticity == PlasticityModel::DruckerPrager) {
         const Material::DruckerPragerCone dp = bm.material->drucker_prager();
-        if (m.j2_alpha.empty()) m.j2_alpha.assign(n, 0.0);  // only with a Drucker-Prager material
-        m.j2_sigma_y[i] = dp.k;
-        m.j2_alpha[i] = dp.alpha;
+        if (m.j2.alpha.empty()) m.j2.alpha.assign(n, 0.0);  // only with a Drucker-Prager material
+        m.j2.sigma_y[i] = dp.k;
+        m.j2.alpha[i] = dp.alpha;
       } else {
-        m.j2_sigma_y[i] = bm.material->yield_stress;
+        m.j2.sigma_y[i] = bm.material->yield_stress;
       }
-      m.j2_h[i] = E * Et / (E - Et);
+      m.j2.h[i] = E * Et / (E - Et);
     }
   }
 
@@ -352,8 +352,8 @@ void reset_force_history(Model& m) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   std::fill(m.cracking.begin(), m.cracking.end(), 0);
-  for (auto* v : {&m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx, &m.beta_yy, &m.beta_xy,
-                  &m.beta_33, &m.eps_p_eq, &m.sig_xx, &m.sig_yy, &m.sig_xy, &m.sig_33}) {
+  for (auto* v : {&m.j2.eps_p_xx, &m.j2.eps_p_yy, &m.j2.eps_p_xy, &m.j2.eps_p_33, &m.j2.beta_xx, &m.j2.beta_yy, &m.j2.beta_xy,
+                  &m.j2.beta_33, &m.j2.eps_p_eq, &m.j2.sig_xx, &m.j2.sig_yy, &m.j2.sig_xy, &m.j2.sig_33}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
   if (broke) update_strain_matrices(m);
@@ -377,7 +377,7 @@ void reset_bond_history(Model& m) {
   reset_force_history(m);
   // The cumulative energies kept per bond and disk (the failed bonds' rows went with the
   // force history).
-  for (auto* v : {&m.plastic_work, &m.hoop_fracture, &m.hoop_break_kinetic, &m.disk_plastic_work})
+  for (auto* v : {&m.plastic_work, &m.hoop_fracture, &m.hoop_break_kinetic, &m.j2.work})
     std::fill(v->begin(), v->end(), 0.0);
 }
 

@@ -277,7 +277,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   // Axisymmetric softening: the damage of each ring's hoop stress (radial cracks).
   if (!m.hoop_damage.empty()) g.point_data.push_back(io::array_view("hoop_damage", m.hoop_damage.data(), n));
   // J2 disks: accumulated equivalent plastic strain, the sum of sqrt(2/3 d(eps_p):d(eps_p)).
-  if (m.any_j2) g.point_data.push_back(io::array_view("plastic_strain", m.eps_p_eq.data(), n));
+  if (m.any_j2) g.point_data.push_back(io::array_view("plastic_strain", m.j2.eps_p_eq.data(), n));
   // Contacts of never-bonded disks that carry force: a second set of lines after the bonds
   // (state 5), so that the bonds keep their order in every frame.
   contacts.i.clear();

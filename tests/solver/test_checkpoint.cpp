@@ -186,7 +186,7 @@ TEST(Checkpoint, DruckerPragerDisksRoundTripAndContinueBitIdentically) {
   const Case c = parse_case(text, "impact.toml", ".");
   const meshing::Lattice lattice = mesh_case(c);
   Solver a(c, lattice);
-  ASSERT_FALSE(a.model().j2_alpha.empty());
+  ASSERT_FALSE(a.model().j2.alpha.empty());
   const std::vector<std::string> names = checkpoint_record_names(a);
   EXPECT_NE(std::find(names.begin(), names.end(), "model.j2_alpha"), names.end());
   advance(a, 60);

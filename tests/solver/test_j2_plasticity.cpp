@@ -206,8 +206,8 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
       const double err = std::max({std::abs(s.xx - sr[0][0]), std::abs(s.yy - sr[1][1]), std::abs(s.xy - sr[0][1]),
                                    std::abs(s.zz - sr[2][2])});
       out.stress_error = std::max(out.stress_error, err / sigma_y);
-      const double perr = std::max({std::abs(m.eps_p_xx[c] - ref.p[0][0]), std::abs(m.eps_p_yy[c] - ref.p[1][1]),
-                                    std::abs(m.eps_p_xy[c] - ref.p[0][1]), std::abs(m.eps_p_33[c] - ref.p[2][2])});
+      const double perr = std::max({std::abs(m.j2.eps_p_xx[c] - ref.p[0][0]), std::abs(m.j2.eps_p_yy[c] - ref.p[1][1]),
+                                    std::abs(m.j2.eps_p_xy[c] - ref.p[0][1]), std::abs(m.j2.eps_p_33[c] - ref.p[2][2])});
       out.strain_error = std::max(out.strain_error, perr);
       p_max = std::max({p_max, std::abs(ref.p[0][0]), std::abs(ref.p[1][1]), std::abs(ref.p[0][1]),
                         std::abs(ref.p[2][2])});
@@ -217,9 +217,9 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
         for (int b = 0; b < 3; ++b) j2 += std::pow(sr[a][b] - (a == b ? mean : 0.0), 2);
       out.peak_stress = std::max(out.peak_stress, std::sqrt(1.5 * j2) / sigma_y);
       for (std::size_t i = 0; i < m.num_disks(); ++i) {
-        if (m.eps_p_eq[i] > 0) {
-          const double tr = m.eps_p_xx[i] + m.eps_p_yy[i] + m.eps_p_33[i];
-          out.trace = std::max(out.trace, std::abs(tr) / m.eps_p_eq[i]);
+        if (m.j2.eps_p_eq[i] > 0) {
+          const double tr = m.j2.eps_p_xx[i] + m.j2.eps_p_yy[i] + m.j2.eps_p_33[i];
+          out.trace = std::max(out.trace, std::abs(tr) / m.j2.eps_p_eq[i]);
         }
         if (!interior(i)) continue;
         out.interior_force =
@@ -229,7 +229,7 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
     from = leg;
   }
   out.strain_error /= p_max;
-  out.eq_lattice = m.eps_p_eq[c];
+  out.eq_lattice = m.j2.eps_p_eq[c];
   out.eq_continuum = ref.eq;
   // Energy of the interior disks (the lattice's free edges are softer than the continuum,
   // see J2Energy): each disk's share of its bonds' work on the plastic strain (half of each)
@@ -244,10 +244,10 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) pp += ref.p[a][b] * ref.p[a][b];
     hardening += ref.H / 3 * pp * v;
-    const double p_xx = m.eps_p_xx[i], p_yy = m.eps_p_yy[i], p_xy = m.eps_p_xy[i], p_33 = m.eps_p_33[i];
-    const double h = m.j2_h[i] / 3 * (p_xx * p_xx + p_yy * p_yy + p_33 * p_33 + 2 * p_xy * p_xy) * v;
+    const double p_xx = m.j2.eps_p_xx[i], p_yy = m.j2.eps_p_yy[i], p_xy = m.j2.eps_p_xy[i], p_33 = m.j2.eps_p_33[i];
+    const double h = m.j2.h[i] / 3 * (p_xx * p_xx + p_yy * p_yy + p_33 * p_33 + 2 * p_xy * p_xy) * v;
     stored += h;
-    double w = m.disk_plastic_work[i];
+    double w = m.j2.work[i];
     if (!m.plastic_work.empty())  // bilinear springs only (the J2 disks' bonds are elastic)
       for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) w += 0.5 * m.plastic_work[m.adj_bond(k)];
     lattice += w - h;
@@ -427,13 +427,13 @@ AffineEnergy affine_energy(Geometry g, const Tensor& eps, const Tensor& p) {
     interior_continuum += v * psi(ei);
   }
   for (std::size_t i = 0; i < m.num_disks(); ++i) {
-    m.eps_p_xx[i] = p[0][0];
-    m.eps_p_yy[i] = p[1][1];
-    m.eps_p_xy[i] = p[0][1];
-    m.eps_p_33[i] = p[2][2];
+    m.j2.eps_p_xx[i] = p[0][0];
+    m.j2.eps_p_yy[i] = p[1][1];
+    m.j2.eps_p_xy[i] = p[0][1];
+    m.j2.eps_p_33[i] = p[2][2];
   }
   compute_internal_forces(m, 1e-7);
-  EXPECT_EQ(*std::max_element(m.eps_p_eq.begin(), m.eps_p_eq.end()), 0.0) << "no flow expected";
+  EXPECT_EQ(*std::max_element(m.j2.eps_p_eq.begin(), m.j2.eps_p_eq.end()), 0.0) << "no flow expected";
   const double e1 = elastic_energy(m);
   Tensor d = eps;
   for (int a = 0; a < 3; ++a)
@@ -510,9 +510,9 @@ ImpactResult impact(Geometry g, double v, const std::string& plasticity = "auto"
   out.plastic = s.energy().plastic;
   out.input = s.energy().input();
   for (std::size_t i = 0; i < m.num_disks() && m.any_j2; ++i) {
-    out.eq_max = std::max(out.eq_max, m.eps_p_eq[i]);
-    if (m.eps_p_eq[i] > 0)
-      out.trace = std::max(out.trace, std::abs(m.eps_p_xx[i] + m.eps_p_yy[i] + m.eps_p_33[i]) / m.eps_p_eq[i]);
+    out.eq_max = std::max(out.eq_max, m.j2.eps_p_eq[i]);
+    if (m.j2.eps_p_eq[i] > 0)
+      out.trace = std::max(out.trace, std::abs(m.j2.eps_p_xx[i] + m.j2.eps_p_yy[i] + m.j2.eps_p_33[i]) / m.j2.eps_p_eq[i]);
   }
   for (std::uint8_t st : m.state) out.yielded_bonds += st == static_cast<std::uint8_t>(BondState::Yielded);
   std::printf("%s %s impact at %.0f m/s: %lld steps, largest |Err| %.3g, plastic work %.4g of %.4g J input (%.1f %%), "
@@ -643,9 +643,9 @@ DpImpact dp_impact(double v, bool plastic) {
   r.plastic = s.energy().plastic;
   r.input = s.energy().input();
   for (std::size_t i = 0; i < m.num_disks() && plastic; ++i) {
-    r.flowed += m.eps_p_eq[i] > 0;
-    if (m.eps_p_eq[i] > 0)
-      r.trace = std::max(r.trace, std::abs(m.eps_p_xx[i] + m.eps_p_yy[i] + m.eps_p_33[i]) / m.eps_p_eq[i]);
+    r.flowed += m.j2.eps_p_eq[i] > 0;
+    if (m.j2.eps_p_eq[i] > 0)
+      r.trace = std::max(r.trace, std::abs(m.j2.eps_p_xx[i] + m.j2.eps_p_yy[i] + m.j2.eps_p_33[i]) / m.j2.eps_p_eq[i]);
   }
   std::printf("%s concrete impact at %.0f m/s: %zu disks flowed, plastic %.3e of %.3e J/rad (%.1f %%), largest |Err| "
               "%.2e, |tr eps_p|/eps_eq %.2g\n",
@@ -693,7 +693,7 @@ TEST(J2State, YieldedDisksAreWrittenAndResetWithTheBonds) {
   Solver s(c, mesh_case(c));
   for (std::int64_t n = 0; n <= s.total_steps(); ++n) ASSERT_TRUE(s.advance(false));
   Model& m = s.model();
-  const double eq_max = *std::max_element(m.eps_p_eq.begin(), m.eps_p_eq.end());
+  const double eq_max = *std::max_element(m.j2.eps_p_eq.begin(), m.j2.eps_p_eq.end());
   ASSERT_GT(eq_max, 0.0);
   // The frames carry the accumulated equivalent plastic strain per disk.
   RunOutput::ContactCells cells;
@@ -704,18 +704,18 @@ TEST(J2State, YieldedDisksAreWrittenAndResetWithTheBonds) {
     found = true;
     std::vector<double> v(m.num_disks());
     a.fill(0, v.size(), v.data());
-    EXPECT_EQ(v, m.eps_p_eq);
+    EXPECT_EQ(v, m.j2.eps_p_eq);
   }
   EXPECT_TRUE(found);
   // Every bond of a yielded disk reports state 1, and only those.
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    const bool yielded = m.eps_p_eq[m.bi[b]] > 0 || m.eps_p_eq[m.bj[b]] > 0;
+    const bool yielded = m.j2.eps_p_eq[m.bi[b]] > 0 || m.j2.eps_p_eq[m.bj[b]] > 0;
     EXPECT_EQ(m.state[b] == static_cast<std::uint8_t>(BondState::Yielded), yielded) << "bond " << b;
   }
   // reset_bond_history returns the disks to the virgin state, as it does the springs.
   reset_bond_history(m);
-  for (const auto* v : {&m.eps_p_xx, &m.eps_p_yy, &m.eps_p_xy, &m.eps_p_33, &m.beta_xx, &m.beta_yy, &m.beta_xy,
-                        &m.beta_33, &m.eps_p_eq, &m.disk_plastic_work})
+  for (const auto* v : {&m.j2.eps_p_xx, &m.j2.eps_p_yy, &m.j2.eps_p_xy, &m.j2.eps_p_33, &m.j2.beta_xx, &m.j2.beta_yy, &m.j2.beta_xy,
+                        &m.j2.beta_33, &m.j2.eps_p_eq, &m.j2.work})
     EXPECT_EQ(*std::max_element(v->begin(), v->end(), [](double a, double b) { return std::abs(a) < std::abs(b); }), 0.0);
 }
 

@@ -47,6 +47,27 @@ struct SofteningParams {
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
+/// Disk-level plasticity (docs/model.md, "Plasticity per disk" and "Drucker-Prager disks"):
+/// von Mises or Drucker-Prager yield with linear kinematic (Prager) hardening per disk. The
+/// springs stay elastic; each plastic disk adds V [psi(eps - eps_p) - psi(eps)] to the energy
+/// (V = A w, psi the isotropic 3D strain energy, eps its local strain). Components xx, yy, xy
+/// (tensor, not engineering shear) and 33 (zz in plane strain, theta-theta in axisymmetry).
+/// Per disk; allocated by build_model only when some body uses it, empty otherwise.
+struct DiskPlasticity {
+  std::vector<double> sigma_y;  ///< yield stress [Pa] (Drucker-Prager: k); 0: not a plastic disk
+  /// Drucker-Prager pressure sensitivity alpha [-]: the yield stress is max(sigma_y - alpha p, 0)
+  /// with p the mean stress (tension > 0). Allocated only when a material is Drucker-Prager.
+  std::vector<double> alpha;
+  std::vector<double> h;  ///< Prager modulus H = E E_t / (E - E_t) [Pa]
+  std::vector<double> eps_p_xx, eps_p_yy, eps_p_xy, eps_p_33;  ///< plastic strain [-]
+  std::vector<double> beta_xx, beta_yy, beta_xy, beta_33;      ///< back stress (2/3) H eps_p [Pa]
+  std::vector<double> eps_p_eq;  ///< accumulated equivalent plastic strain [-]
+  /// C : (eps - eps_p) at the last force evaluation [Pa], for the trapezoid work of the next
+  /// plastic increment.
+  std::vector<double> sig_xx, sig_yy, sig_xy, sig_33;
+  std::vector<double> work;  ///< work done on eps_p [J]
+};
+
 struct Model {
   Geometry geometry = Geometry::PlaneStress;
   ShearModel shear_model = ShearModel::LocalStrain;
@@ -200,20 +221,8 @@ struct Model {
   // energy, eps its local strain). Components xx, yy, xy (tensor, not engineering shear) and
   // 33 (zz in plane strain, theta-theta in axisymmetry). Allocated by build_model only when
   // some body uses it; empty otherwise.
-  bool any_j2 = false;                   ///< some disk has J2 plasticity
-  std::vector<double> j2_sigma_y;        ///< von Mises yield stress [Pa]; 0: not a J2 disk
-  /// Drucker-Prager pressure sensitivity alpha [-]: the yield stress is
-  /// max(j2_sigma_y - alpha p, 0) with p the mean stress (tension > 0); 0 for von Mises.
-  /// Allocated only when a material is Drucker-Prager.
-  std::vector<double> j2_alpha;
-  std::vector<double> j2_h;              ///< Prager modulus H = E E_t / (E - E_t) [Pa]
-  std::vector<double> eps_p_xx, eps_p_yy, eps_p_xy, eps_p_33;  ///< plastic strain [-]
-  std::vector<double> beta_xx, beta_yy, beta_xy, beta_33;      ///< back stress (2/3) H eps_p [Pa]
-  std::vector<double> eps_p_eq;          ///< accumulated equivalent plastic strain [-]
-  /// C : (eps - eps_p) at the last force evaluation [Pa], for the trapezoid work of the next
-  /// plastic increment.
-  std::vector<double> sig_xx, sig_yy, sig_xy, sig_33;
-  std::vector<double> disk_plastic_work;  ///< work done on eps_p [J]
+  bool any_j2 = false;  ///< some disk has J2 (or Drucker-Prager) plasticity
+  DiskPlasticity j2;
 
   // ---- adjacency (CSR): incident bonds of each disk, in ascending bond order ----------
   std::vector<std::int32_t> adj_offset;  ///< size num_disks + 1 (2 x bonds < 2^31: build_model checks)
