@@ -103,14 +103,14 @@ void visit_model(M& m, V& v) {
   // softening failure
   v.state("any_softening", m.any_softening);
   v.rebuilt("softening", m.softening);
-  v.state("damage", m.damage); v.state("kappa", m.kappa);
-  v.state("delta0", m.delta0); v.state("delta_f", m.delta_f);
-  v.state("cracking", m.cracking);
-  v.state("hoop_damage", m.hoop_damage); v.state("hoop_kappa", m.hoop_kappa);
-  v.state("hoop_e0", m.hoop_e0); v.state("hoop_ef", m.hoop_ef);
-  v.state("hoop_e_last", m.hoop_e_last);
-  v.state("hoop_fracture", m.hoop_fracture);
-  v.state("hoop_break_kinetic", m.hoop_break_kinetic);
+  v.state("damage", m.cracks.damage); v.state("kappa", m.cracks.kappa);
+  v.state("delta0", m.cracks.delta0); v.state("delta_f", m.cracks.delta_f);
+  v.state("cracking", m.cracks.cracking);
+  v.state("hoop_damage", m.hoop_cracks.damage); v.state("hoop_kappa", m.hoop_cracks.kappa);
+  v.state("hoop_e0", m.hoop_cracks.e0); v.state("hoop_ef", m.hoop_cracks.ef);
+  v.state("hoop_e_last", m.hoop_cracks.e_last);
+  v.state("hoop_fracture", m.hoop_cracks.fracture);
+  v.state("hoop_break_kinetic", m.hoop_cracks.break_kinetic);
   v.state("strength_scale", m.strength_scale); v.state("disk_strength_scale", m.disk_strength_scale);
   v.rebuilt("fx_intact", m.fx_intact);  // work space of settle_broken_bonds
   v.rebuilt("fy_intact", m.fy_intact);

@@ -91,10 +91,10 @@ double hoop_energy(const Model& m, std::size_t i) {
   if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
     // A disk that has lost a neighbour: the hoop stress's square only (see hoop_stress).
     const double M = lam + 2 * mu, s = M * eps_tt + lam * tr;
-    const double g = !m.hoop_damage.empty() && s > 0 ? 1 - m.hoop_damage[i] : 1.0;
+    const double g = !m.hoop_cracks.damage.empty() && s > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
     return m.cell_area[i] * m.disk_weight(i) * g * s * s / (2 * M) - m.hoop_const[i];
   }
-  const double g = !m.hoop_damage.empty() && eps_tt > 0 ? 1 - m.hoop_damage[i] : 1.0;
+  const double g = !m.hoop_cracks.damage.empty() && eps_tt > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
   return g * m.cell_area[i] * m.disk_weight(i) * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
 }
 
@@ -109,10 +109,10 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) {
   const double tr = m.eps_xx[i] + m.eps_yy[i];
   const double s = M * eps_tt + lam * tr;
   if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
-    const double g = !m.hoop_damage.empty() && s > 0 ? 1 - m.hoop_damage[i] : 1.0;
+    const double g = !m.hoop_cracks.damage.empty() && s > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
     return {g * s, g * s * lam / M};
   }
-  const double g = !m.hoop_damage.empty() && eps_tt > 0 ? 1 - m.hoop_damage[i] : 1.0;
+  const double g = !m.hoop_cracks.damage.empty() && eps_tt > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
   return {g * s, g * lam * eps_tt};
 }
 
@@ -130,23 +130,23 @@ void update_hoop_damage(Model& m) {
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
-    if (!(sp.G_F > 0) || !m.strain_ok[i] || m.hoop_damage[i] >= 1.0) continue;
+    if (!(sp.G_F > 0) || !m.strain_ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
     const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
     const double s = M * hoop_strain(m, i) + lam * (m.eps_xx[i] + m.eps_yy[i]);
     const double e = s / M;
-    const double e_last = m.hoop_e_last[i];
-    m.hoop_e_last[i] = e;
-    if (m.hoop_ef[i] == 0) {
+    const double e_last = m.hoop_cracks.e_last[i];
+    m.hoop_cracks.e_last[i] = e;
+    if (m.hoop_cracks.ef[i] == 0) {
       const double f_t = m.failure_laws[static_cast<std::size_t>(m.body[i])].f_t *
                          (m.disk_strength_scale.empty() ? 1.0 : m.disk_strength_scale[i]);
       if (!(s > f_t)) continue;
       const double h = 2 * 3.14159265358979323846 * m.disk_weight(i) / sp.radial_cracks;
-      m.hoop_e0[i] = e;
-      m.hoop_ef[i] = std::max(2 * sp.G_F / (h * f_t), e);
-      m.hoop_kappa[i] = e;
+      m.hoop_cracks.e0[i] = e;
+      m.hoop_cracks.ef[i] = std::max(2 * sp.G_F / (h * f_t), e);
+      m.hoop_cracks.kappa[i] = e;
     }
-    if (e > m.hoop_kappa[i]) {
-      const double d = laws::LinearSoftening::damage(e, m.hoop_e0[i], m.hoop_ef[i]);
+    if (e > m.hoop_cracks.kappa[i]) {
+      const double d = laws::LinearSoftening::damage(e, m.hoop_cracks.e0[i], m.hoop_cracks.ef[i]);
       // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
       // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
       // dD (E_h - half step of the force drop), the half step taken as for the bonds).
@@ -154,15 +154,15 @@ void update_hoop_damage(Model& m) {
       const bool cut = !m.hoop_cut.empty() && m.hoop_cut[i];
       const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
                             : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
-      if (d > m.hoop_damage[i] && (cut || eps_tt > 0) && eh > 0) {
+      if (d > m.hoop_cracks.damage[i] && (cut || eps_tt > 0) && eh > 0) {
         // The half step, A b (s d(eps_tt) + lambda eps_tt d(tr)) / 2, is taken as A b s d(s/M) / 2
         // with the driver of the last step (the hoop share of the in-plane force is small).
         const double half = 0.5 * m.cell_area[i] * m.disk_weight(i) * s * (e - e_last);
-        const double released = (d - m.hoop_damage[i]) * (eh - half);
-        m.hoop_fracture[i] += std::max(released, 0.0);
-        m.hoop_break_kinetic[i] += std::min(released, 0.0);
-        m.hoop_damage[i] = d;
-        m.hoop_kappa[i] = e;
+        const double released = (d - m.hoop_cracks.damage[i]) * (eh - half);
+        m.hoop_cracks.fracture[i] += std::max(released, 0.0);
+        m.hoop_cracks.break_kinetic[i] += std::min(released, 0.0);
+        m.hoop_cracks.damage[i] = d;
+        m.hoop_cracks.kappa[i] = e;
       }
     }
   }
@@ -282,7 +282,7 @@ double j2_hardening_energy(const Model& m, std::size_t i) {
 
 /// 1 - D of a cracking bond's shear spring, 1 otherwise.
 inline double shear_factor(const Model& m, std::size_t b) {
-  return !m.damage.empty() && m.cracking[b] ? 1 - m.damage[b] : 1.0;
+  return !m.cracks.damage.empty() && m.cracks.cracking[b] ? 1 - m.cracks.damage[b] : 1.0;
 }
 
 /// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2.
@@ -303,9 +303,9 @@ inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
 double intact_bond_energy(const Model& m, std::size_t b) {
-  if (!m.damage.empty() && m.cracking[b]) {
+  if (!m.cracks.damage.empty() && m.cracks.cracking[b]) {
     // A cracking bond: (1 - D) on both springs, the normal one only while open.
-    const double g = 1 - m.damage[b], delta = m.len_prev[b] - m.rest_length[b];
+    const double g = 1 - m.cracks.damage[b], delta = m.len_prev[b] - m.rest_length[b];
     return 0.5 * m.kn(b) * delta * delta * (delta > 0 ? g : 1.0) + g * 0.5 * m.ks(b) * m.u_s[b] * m.u_s[b];
   }
   double e = m.kn(b) != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) : 0.0;
@@ -368,8 +368,8 @@ inline laws::BondStrength bond_strength(const Model& m, std::size_t l, const law
 /// Bond b starts to crack at elongation delta, to fail at delta_f; a bond whose share of the
 /// opening is not above its elastic stretch cannot soften: it breaks in tension at once.
 inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f) {
-  m.delta0[b] = m.kappa[b] = delta;
-  m.delta_f[b] = delta_f;
+  m.cracks.delta0[b] = m.cracks.kappa[b] = delta;
+  m.cracks.delta_f[b] = delta_f;
   m.newly_broken[b] = delta_f > delta ? kStartsCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
 }
 
@@ -393,10 +393,10 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const SofteningParams& sp = m.softening[l];
   const double delta = len - m.rest_length[b];
   const double us = m.u_s[b];
-  if (m.cracking[b] && delta > m.kappa[b]) {
-    const double d = laws::LinearSoftening::damage(delta, m.delta0[b], m.delta_f[b]);
+  if (m.cracks.cracking[b] && delta > m.cracks.kappa[b]) {
+    const double d = laws::LinearSoftening::damage(delta, m.cracks.delta0[b], m.cracks.delta_f[b]);
     const double e = 0.5 * (m.kn(b) * delta * delta + m.ks(b) * us * us);
-    if (d > m.damage[b] && e > 0) {
+    if (d > m.cracks.damage[b] && e > 0) {
       // What the damage step releases at t_n, as for a break (docs/model.md, "Energy at a
       // break"): the drop of the springs' energy, dD e, less the half step of the force drop
       // that leap-frog's kinetic energy holds, (dt/2) v.dF = dD (k_n delta du_n + k_s u_s du_s) / 2
@@ -405,20 +405,20 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       // accurate. It is >= 0 unless a measure changed sign within the step; then the spring's
       // energy passed through 0 and the negative part is the integrator's (break_kinetic).
       const double half = 0.5 * (m.kn(b) * delta * du_n + m.ks(b) * us * du_s);
-      const double released = (d - m.damage[b]) * (e - half);
+      const double released = (d - m.cracks.damage[b]) * (e - half);
       Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
       f.fracture_energy += std::max(released, 0.0);
       f.break_kinetic += std::min(released, 0.0);
-      m.damage[b] = d;
-      m.kappa[b] = delta;
+      m.cracks.damage[b] = d;
+      m.cracks.kappa[b] = delta;
     }
   }
-  const double g = 1 - m.damage[b];
+  const double g = 1 - m.cracks.damage[b];
   m.f_n[b] = m.kn(b) * delta * (delta > 0 ? g : 1.0);
   m.f_s[b] = g * m.ks(b) * us;
   m.len_prev[b] = len;
-  if (m.cracking[b]) {
-    if (m.damage[b] >= 1.0) m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+  if (m.cracks.cracking[b]) {
+    if (m.cracks.damage[b] >= 1.0) m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
     return;
   }
   // Eq. 20: the rate factors at the bond's strain rate; the random field's factor. The
@@ -901,12 +901,12 @@ BondDissipation bond_dissipation(const Model& m) {
   if (!m.any_breakable) return d;  // the failure arrays exist only for breakable models
   // Over the bonds in their order, as every sum of the ledger (the rows are in failure order).
   d.fracture = deterministic_sum(nb, [&](std::size_t b) { return m.bond_fracture_energy(b); }, m.scratch);
-  if (!m.hoop_fracture.empty())
-    d.fracture += deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_fracture[i]; }, m.scratch);
+  if (!m.hoop_cracks.fracture.empty())
+    d.fracture += deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_cracks.fracture[i]; }, m.scratch);
   d.break_kinetic = deterministic_sum(nb, [&](std::size_t b) { return m.bond_break_kinetic(b); }, m.scratch);
-  if (!m.hoop_break_kinetic.empty())
+  if (!m.hoop_cracks.break_kinetic.empty())
     d.break_kinetic +=
-        deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_break_kinetic[i]; }, m.scratch);
+        deterministic_sum(m.num_disks(), [&](std::size_t i) { return m.hoop_cracks.break_kinetic[i]; }, m.scratch);
   d.contact_damping = deterministic_sum(nb, [&](std::size_t b) { return m.contact_damping_work(b); }, m.scratch);
   d.friction = deterministic_sum(nb, [&](std::size_t b) { return m.contact_friction_work(b); }, m.scratch);
   return d;
@@ -1007,13 +1007,13 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     const bool starts_cracking = m.newly_broken[b] == kStartsCracking;
     if (starts_cracking) {
       // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
-      m.cracking[b] = 1;
+      m.cracks.cracking[b] = 1;
       add_failed_row(m, b);
     } else {
       // BondState = 1 + FailureMode; the contact's row starts at zero.
       mark_broken(m, b, static_cast<BondState>(m.newly_broken[b]));
       m.failed(b).break_time = m.time;
-      if (!m.damage.empty()) m.damage[b] = 1.0;
+      if (!m.cracks.damage.empty()) m.cracks.damage[b] = 1.0;
       // The bond becomes a contact that starts now: no shear history, the normal force of
       // its overlap (a bond that breaks in compression keeps pushing).
       m.f_n[b] = m.f_s[b] = 0.0;

@@ -170,10 +170,10 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     for (auto* v : {&m.u_s, &m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
   }
   if (m.any_softening) {
-    for (auto* v : {&m.damage, &m.kappa, &m.delta0, &m.delta_f}) v->assign(nb, 0.0);
-    m.cracking.assign(nb, 0);
+    for (auto* v : {&m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0, &m.cracks.delta_f}) v->assign(nb, 0.0);
+    m.cracks.cracking.assign(nb, 0);
     if (axisym)
-      for (auto* v : {&m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_fracture, &m.hoop_e_last, &m.hoop_break_kinetic}) v->assign(n, 0.0);
+      for (auto* v : {&m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.fracture, &m.hoop_cracks.e_last, &m.hoop_cracks.break_kinetic}) v->assign(n, 0.0);
   }
   std::vector<std::int32_t> bond_count(n, 0);  // bonds per disk: the adjacency's offsets
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
@@ -343,15 +343,15 @@ void reset_force_history(Model& m) {
   std::fill(m.failed_row.begin(), m.failed_row.end(), -1);
   if (!m.len_prev.empty()) m.len_prev = m.rest_length;
   const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
-                     std::any_of(m.cracking.begin(), m.cracking.end(), [](std::uint8_t c) { return c != 0; });
+                     std::any_of(m.cracks.cracking.begin(), m.cracks.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
   std::fill(m.hoop_cut.begin(), m.hoop_cut.end(), 0);
-  for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.damage, &m.kappa, &m.delta0,
-                  &m.delta_f, &m.hoop_damage, &m.hoop_kappa, &m.hoop_e0, &m.hoop_ef, &m.hoop_e_last}) {
+  for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0,
+                  &m.cracks.delta_f, &m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.e_last}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
-  std::fill(m.cracking.begin(), m.cracking.end(), 0);
+  std::fill(m.cracks.cracking.begin(), m.cracks.cracking.end(), 0);
   for (auto* v : {&m.j2.eps_p_xx, &m.j2.eps_p_yy, &m.j2.eps_p_xy, &m.j2.eps_p_33, &m.j2.beta_xx, &m.j2.beta_yy, &m.j2.beta_xy,
                   &m.j2.beta_33, &m.j2.eps_p_eq, &m.j2.sig_xx, &m.j2.sig_yy, &m.j2.sig_xy, &m.j2.sig_33}) {
     std::fill(v->begin(), v->end(), 0.0);
@@ -377,7 +377,7 @@ void reset_bond_history(Model& m) {
   reset_force_history(m);
   // The cumulative energies kept per bond and disk (the failed bonds' rows went with the
   // force history).
-  for (auto* v : {&m.plastic_work, &m.hoop_fracture, &m.hoop_break_kinetic, &m.j2.work})
+  for (auto* v : {&m.plastic_work, &m.hoop_cracks.fracture, &m.hoop_cracks.break_kinetic, &m.j2.work})
     std::fill(v->begin(), v->end(), 0.0);
 }
 

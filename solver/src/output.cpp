@@ -270,12 +270,12 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
     double broken = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = m.adj_bond(k);
-      broken += !m.bond_intact(b) ? 1.0 : m.damage.empty() ? 0.0 : m.damage[b];
+      broken += !m.bond_intact(b) ? 1.0 : m.cracks.damage.empty() ? 0.0 : m.cracks.damage[b];
     }
     return broken / m.initial_bonds(i);
   }));
   // Axisymmetric softening: the damage of each ring's hoop stress (radial cracks).
-  if (!m.hoop_damage.empty()) g.point_data.push_back(io::array_view("hoop_damage", m.hoop_damage.data(), n));
+  if (!m.hoop_cracks.damage.empty()) g.point_data.push_back(io::array_view("hoop_damage", m.hoop_cracks.damage.data(), n));
   // J2 disks: accumulated equivalent plastic strain, the sum of sqrt(2/3 d(eps_p):d(eps_p)).
   if (m.any_j2) g.point_data.push_back(io::array_view("plastic_strain", m.j2.eps_p_eq.data(), n));
   // Contacts of never-bonded disks that carry force: a second set of lines after the bonds
@@ -323,7 +323,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.bond_break_time(b); },
                               [](std::size_t) { return -1.0; }));
   if (m.any_softening)
-    g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.damage[b]; },
+    g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.cracks.damage[b]; },
                                 [](std::size_t) { return 1.0; }));
   g.cell_data.push_back(cells("bond_class", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.bond_class_of(b)); },
                               [](std::size_t) { return 0.0; }));

@@ -57,7 +57,7 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
       my[b] = model_.y0[model_.bi[b]] + 0.5 * model_.ref_ay(b);
     }
     model_.strength_scale = lognormal_field(mx, my, r.seed, r.correlation_length, r.strength_cov);
-    if (!model_.hoop_damage.empty())
+    if (!model_.hoop_cracks.damage.empty())
       model_.disk_strength_scale = lognormal_field(model_.x0, model_.y0, r.seed, r.correlation_length, r.strength_cov);
   }
   lap(setup_times_.random_field);

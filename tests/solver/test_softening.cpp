@@ -172,7 +172,7 @@ BarResult run_bar(const std::string& text) {
   r.break_kinetic = s.energy().break_kinetic;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
     r.min_bond_fracture = std::min(r.min_bond_fracture, m.bond_fracture_energy(b));
-    r.cracked += (!m.bond_intact(b) || m.cracking[b]) ? 1 : 0;
+    r.cracked += (!m.bond_intact(b) || m.cracks.cracking[b]) ? 1 : 0;
   }
   return r;
 }
@@ -267,14 +267,14 @@ end = 60e-6
     max_error = std::max(max_error, std::abs(s.energy().relative_error()));
   }
   const Model& m = s.model();
-  ASSERT_FALSE(m.hoop_damage.empty());
-  const double mean_damage = std::accumulate(m.hoop_damage.begin(), m.hoop_damage.end(), 0.0) / m.num_disks();
-  const double hoop = std::accumulate(m.hoop_fracture.begin(), m.hoop_fracture.end(), 0.0);
+  ASSERT_FALSE(m.hoop_cracks.damage.empty());
+  const double mean_damage = std::accumulate(m.hoop_cracks.damage.begin(), m.hoop_cracks.damage.end(), 0.0) / m.num_disks();
+  const double hoop = std::accumulate(m.hoop_cracks.fracture.begin(), m.hoop_cracks.fracture.end(), 0.0);
   std::printf("ring: mean hoop damage %.3f, hoop fracture %.3e J/rad of %.3e, max |Err| %.2e\n", mean_damage, hoop,
               s.energy().input(), max_error);
   EXPECT_GT(mean_damage, 0.5);
   EXPECT_GT(hoop, 0.0);
-  for (double h : m.hoop_fracture) EXPECT_GE(h, 0.0);
+  for (double h : m.hoop_cracks.fracture) EXPECT_GE(h, 0.0);
   EXPECT_LE(max_error, 0.01);
 }
 

@@ -113,9 +113,9 @@ Outcome run(const Member& m) {
   o.broken = solver.broken_bonds();
   const Model& model = solver.model();
   for (std::size_t b = 0; b < model.num_bonds(); ++b)
-    if (!model.bond_intact(b) || (!model.cracking.empty() && model.cracking[b]))
+    if (!model.bond_intact(b) || (!model.cracks.cracking.empty() && model.cracks.cracking[b]))
       o.min_fracture = std::min(o.min_fracture, model.bond_fracture_energy(b));
-  for (double h : model.hoop_fracture) o.min_fracture = std::min(o.min_fracture, h);
+  for (double h : model.hoop_cracks.fracture) o.min_fracture = std::min(o.min_fracture, h);
   o.fracture = solver.energy().fracture;
   o.break_kinetic = solver.energy().break_kinetic;
   o.input = solver.energy().input();

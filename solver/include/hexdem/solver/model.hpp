@@ -47,6 +47,26 @@ struct SofteningParams {
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
+/// The crack state of softening bonds (docs/model.md, "Fracture energy and softening"), per
+/// bond; allocated only when some material has a fracture energy.
+struct BondCracks {
+  std::vector<double> damage;           ///< D of the bond's springs [-], 0 intact, 1 broken
+  std::vector<double> kappa;            ///< largest elongation since cracking started [m]
+  std::vector<double> delta0, delta_f;  ///< elongation at the start of cracking and at failure [m]
+  /// 1 once the bond has started to crack: it keeps its (softening) springs but leaves its
+  /// disks' strain fits, so that its opening is not read as strain by its neighbours.
+  std::vector<std::uint8_t> cracking;
+};
+
+/// Hoop cracking of the rings of axisymmetric softening models: damage of the hoop stress
+/// (radial cracks), per disk.
+struct HoopCracks {
+  std::vector<double> damage, kappa, e0, ef;  ///< D_h, the largest driver, its start and failure values [-]
+  std::vector<double> e_last;                 ///< the hoop driver s / M at the last force pass [-]
+  std::vector<double> fracture;               ///< energy dissipated by hoop cracking [J]
+  std::vector<double> break_kinetic;          ///< the kinetic half step of hoop damage [J] (as break_kinetic)
+};
+
 /// Disk-level plasticity (docs/model.md, "Plasticity per disk" and "Drucker-Prager disks"):
 /// von Mises or Drucker-Prager yield with linear kinematic (Prager) hardening per disk. The
 /// springs stay elastic; each plastic disk adds V [psi(eps - eps_p) - psi(eps)] to the energy
@@ -197,17 +217,8 @@ struct Model {
   // arrays allocated only when some material has a fracture energy.
   bool any_softening = false;
   std::vector<SofteningParams> softening;  ///< per failure law (body)
-  std::vector<double> damage;              ///< D of the bond's springs [-], 0 intact, 1 broken
-  std::vector<double> kappa;               ///< largest elongation since cracking started [m]
-  std::vector<double> delta0, delta_f;     ///< elongation at the start of cracking and at failure [m]
-  /// 1 once the bond has started to crack: it keeps its (softening) springs but leaves its
-  /// disks' strain fits, so that its opening is not read as strain by its neighbours.
-  std::vector<std::uint8_t> cracking;
-  // Hoop cracking of axisymmetric rings: damage of the hoop stress (radial cracks).
-  std::vector<double> hoop_damage, hoop_kappa, hoop_e0, hoop_ef;  ///< [-]
-  std::vector<double> hoop_e_last;         ///< the hoop driver s / M at the last force pass [-]
-  std::vector<double> hoop_fracture;       ///< energy dissipated by hoop cracking [J]
-  std::vector<double> hoop_break_kinetic;  ///< the kinetic half step of hoop damage [J] (as break_kinetic)
+  BondCracks cracks;
+  HoopCracks hoop_cracks;  ///< axisymmetric models only
   /// Spatially random strength ([random]): factor on every strength of a bond / a disk's
   /// hoop strength; empty: 1.
   std::vector<double> strength_scale, disk_strength_scale;
@@ -240,7 +251,7 @@ struct Model {
   [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
   [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
   /// Intact and not cracking: the bond enters its disks' strain fits.
-  [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracking[b]); }
+  [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracks.cracking[b]); }
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
