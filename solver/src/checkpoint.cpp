@@ -60,12 +60,12 @@ void visit_model(M& m, V& v) {
   v.state("mirror_plane", m.mirror_plane);
   v.state("wall_kx", m.wall_kx); v.state("wall_ky", m.wall_ky);
   v.state("wall_sx", m.wall_sx); v.state("wall_sy", m.wall_sy);
-  v.state("minv_xx", m.minv_xx); v.state("minv_xy", m.minv_xy); v.state("minv_yy", m.minv_yy);
-  v.state("strain_ok", m.strain_ok);
-  v.state("eps_xx", m.eps_xx); v.state("eps_yy", m.eps_yy); v.state("eps_xy", m.eps_xy);
-  v.state("eps_off_xx", m.eps_off_xx); v.state("eps_off_yy", m.eps_off_yy); v.state("eps_off_xy", m.eps_off_xy);
+  v.state("minv_xx", m.strain.minv_xx); v.state("minv_xy", m.strain.minv_xy); v.state("minv_yy", m.strain.minv_yy);
+  v.state("strain_ok", m.strain.ok);
+  v.state("eps_xx", m.strain.eps_xx); v.state("eps_yy", m.strain.eps_yy); v.state("eps_xy", m.strain.eps_xy);
+  v.state("eps_off_xx", m.strain.eps_off_xx); v.state("eps_off_yy", m.strain.eps_off_yy); v.state("eps_off_xy", m.strain.eps_off_xy);
   v.state("hoop_cut", m.hoop_cut); v.state("hoop_const", m.hoop_const);
-  v.state("w_xx", m.w_xx); v.state("w_xy", m.w_xy); v.state("w_yx", m.w_yx); v.state("w_yy", m.w_yy);
+  v.state("w_xx", m.strain.w_xx); v.state("w_xy", m.strain.w_xy); v.state("w_yx", m.strain.w_yx); v.state("w_yy", m.strain.w_yy);
   v.state("hoop_lambda", m.hoop_lambda); v.state("hoop_mu", m.hoop_mu);
   v.state("nu_zz", m.nu_zz);
   v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);

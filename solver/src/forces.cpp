@@ -29,7 +29,7 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
     const auto o = m.adj_other[k];
-    if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(o)]) continue;
+    if (!m.bond_in_fit(b) || !m.strain.ok[static_cast<std::size_t>(o)]) continue;
     const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
     const double dux = fx[o] - fx[i], duy = fy[o] - fy[i];
     gxx += dux * ax;
@@ -37,7 +37,7 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
     gyx += duy * ax;
     gyy += duy * ay;
   }
-  const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
+  const double mxx = m.strain.minv_xx[i], mxy = m.strain.minv_xy[i], myy = m.strain.minv_yy[i];
   // On a mirror plane the field is mirror-symmetric: no shear.
   return {gxx * mxx + gxy * mxy, gyx * mxy + gyy * myy,
           m.on_mirror(i) ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
@@ -47,14 +47,14 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
 /// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
 void disk_strain(Model& m, std::size_t i) {
   const std::array<double, 3> e = fit_gradient(m, i, m.ux, m.uy);
-  m.eps_xx[i] = e[0];
-  m.eps_yy[i] = e[1];
-  m.eps_xy[i] = e[2];
-  if (!m.eps_off_xx.empty()) {
+  m.strain.eps_xx[i] = e[0];
+  m.strain.eps_yy[i] = e[1];
+  m.strain.eps_xy[i] = e[2];
+  if (!m.strain.eps_off_xx.empty()) {
     // Strain carried across changes of the fit (settle_broken_bonds): an affine offset.
-    m.eps_xx[i] -= m.eps_off_xx[i];
-    m.eps_yy[i] -= m.eps_off_yy[i];
-    if (!m.on_mirror(i)) m.eps_xy[i] -= m.eps_off_xy[i];
+    m.strain.eps_xx[i] -= m.strain.eps_off_xx[i];
+    m.strain.eps_yy[i] -= m.strain.eps_off_yy[i];
+    if (!m.on_mirror(i)) m.strain.eps_xy[i] -= m.strain.eps_off_xy[i];
   }
 }
 
@@ -67,9 +67,9 @@ void compute_disk_strains(Model& m) {
 /// u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j) of bond b (local-strain model).
 inline double local_shear(const Model& m, std::size_t b) {
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-  if (!m.strain_ok[i] || !m.strain_ok[j]) return 0.0;  // a lone disk's bond: normal spring only
-  return m.g_xx[b] * (m.eps_xx[i] + m.eps_xx[j]) + m.g_yy[b] * (m.eps_yy[i] + m.eps_yy[j]) +
-         2.0 * m.g_xy[b] * (m.eps_xy[i] + m.eps_xy[j]);
+  if (!m.strain.ok[i] || !m.strain.ok[j]) return 0.0;  // a lone disk's bond: normal spring only
+  return m.g_xx[b] * (m.strain.eps_xx[i] + m.strain.eps_xx[j]) + m.g_yy[b] * (m.strain.eps_yy[i] + m.strain.eps_yy[j]) +
+         2.0 * m.g_xy[b] * (m.strain.eps_xy[i] + m.strain.eps_xy[j]);
 }
 
 /// Hoop strain u_r / b of disk i (axisymmetric; 0 in plane geometries).
@@ -87,7 +87,7 @@ inline double hoop_strain(const Model& m, std::size_t i) {
 double hoop_energy(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
-  const double tr = m.eps_xx[i] + m.eps_yy[i];
+  const double tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
   if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
     // A disk that has lost a neighbour: the hoop stress's square only (see hoop_stress).
     const double M = lam + 2 * mu, s = M * eps_tt + lam * tr;
@@ -106,7 +106,7 @@ struct HoopStress {
 inline HoopStress hoop_stress(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
   const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
-  const double tr = m.eps_xx[i] + m.eps_yy[i];
+  const double tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
   const double s = M * eps_tt + lam * tr;
   if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
     const double g = !m.hoop_cracks.damage.empty() && s > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
@@ -130,9 +130,9 @@ void update_hoop_damage(Model& m) {
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
-    if (!(sp.G_F > 0) || !m.strain_ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
+    if (!(sp.G_F > 0) || !m.strain.ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
     const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
-    const double s = M * hoop_strain(m, i) + lam * (m.eps_xx[i] + m.eps_yy[i]);
+    const double s = M * hoop_strain(m, i) + lam * (m.strain.eps_xx[i] + m.strain.eps_yy[i]);
     const double e = s / M;
     const double e_last = m.hoop_cracks.e_last[i];
     m.hoop_cracks.e_last[i] = e;
@@ -150,7 +150,7 @@ void update_hoop_damage(Model& m) {
       // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
       // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
       // dD (E_h - half step of the force drop), the half step taken as for the bonds).
-      const double eps_tt = hoop_strain(m, i), tr = m.eps_xx[i] + m.eps_yy[i];
+      const double eps_tt = hoop_strain(m, i), tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
       const bool cut = !m.hoop_cut.empty() && m.hoop_cut[i];
       const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
                             : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
@@ -175,7 +175,7 @@ void update_hoop_damage(Model& m) {
 double j2_correction_energy(const Model& m, std::size_t i) {
   const double pxx = m.j2.eps_p_xx[i], pyy = m.j2.eps_p_yy[i], pxy = m.j2.eps_p_xy[i], p33 = m.j2.eps_p_33[i];
   const double pp = pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy;
-  const double ep = m.eps_xx[i] * pxx + m.eps_yy[i] * pyy + hoop_strain(m, i) * p33 + 2 * m.eps_xy[i] * pxy;
+  const double ep = m.strain.eps_xx[i] * pxx + m.strain.eps_yy[i] * pyy + hoop_strain(m, i) * p33 + 2 * m.strain.eps_xy[i] * pxy;
   return m.cell_area[i] * m.disk_weight(i) * m.hoop_mu[i] * (pp - 2 * ep);
 }
 
@@ -186,8 +186,8 @@ struct DiskStress {
 };
 inline DiskStress j2_stress(const Model& m, std::size_t i) {
   const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
-  const double exx = m.eps_xx[i] - m.j2.eps_p_xx[i], eyy = m.eps_yy[i] - m.j2.eps_p_yy[i];
-  const double exy = m.eps_xy[i] - m.j2.eps_p_xy[i], e33 = hoop_strain(m, i) - m.j2.eps_p_33[i];
+  const double exx = m.strain.eps_xx[i] - m.j2.eps_p_xx[i], eyy = m.strain.eps_yy[i] - m.j2.eps_p_yy[i];
+  const double exy = m.strain.eps_xy[i] - m.j2.eps_p_xy[i], e33 = hoop_strain(m, i) - m.j2.eps_p_33[i];
   const double lt = lam * (exx + eyy + e33);
   return {lt + 2 * mu * exx, lt + 2 * mu * eyy, 2 * mu * exy, lt + 2 * mu * e33};
 }
@@ -440,7 +440,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // edge its normal force is the edge-parallel stress.
   // A disk that has lost its fit gives its frozen strain (settle_broken_bonds): excluding it
   // (Eq. 19 on the bond's own forces instead) made a rotated bar's crack dissipate 0.86 G_F A.
-  const bool full_i = m.strain_ok[i] && m.initial_bonds(i) == 6, full_j = m.strain_ok[j] && m.initial_bonds(j) == 6;
+  const bool full_i = m.strain.ok[i] && m.initial_bonds(i) == 6, full_j = m.strain.ok[j] && m.initial_bonds(j) == 6;
   if (!full_i && !full_j) {
     const double sec = m.bond_section(b) * scale;
     if (laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec)) == laws::FailureMode::None)
@@ -457,8 +457,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   }
   // The continuum stress at the midpoint: C : (eps_i + eps_j) / 2 (with the hoop strain).
   const double wi = full_i ? (full_j ? 0.5 : 1.0) : 0.0, wj = 1.0 - wi;
-  const double exx = wi * m.eps_xx[i] + wj * m.eps_xx[j], eyy = wi * m.eps_yy[i] + wj * m.eps_yy[j];
-  const double exy = wi * m.eps_xy[i] + wj * m.eps_xy[j], tr = exx + eyy;
+  const double exx = wi * m.strain.eps_xx[i] + wj * m.strain.eps_xx[j], eyy = wi * m.strain.eps_yy[i] + wj * m.strain.eps_yy[j];
+  const double exy = wi * m.strain.eps_xy[i] + wj * m.strain.eps_xy[j], tr = exx + eyy;
   const bool axisym = m.geometry == Geometry::Axisymmetric;
   const double ett = axisym ? wi * hoop_strain(m, i) + wj * hoop_strain(m, j) : 0.0;
   const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
@@ -722,11 +722,11 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       sxy += c * m.j2.eps_p_xy[i];
     }
     if (m.on_mirror(i)) sxy = 0.0;  // the projection's adjoint (energy consistency)
-    const double mxx = m.minv_xx[i], mxy = m.minv_xy[i], myy = m.minv_yy[i];
-    m.w_xx[i] = sxx * mxx + sxy * mxy;
-    m.w_xy[i] = sxx * mxy + sxy * myy;
-    m.w_yx[i] = sxy * mxx + syy * mxy;
-    m.w_yy[i] = sxy * mxy + syy * myy;
+    const double mxx = m.strain.minv_xx[i], mxy = m.strain.minv_xy[i], myy = m.strain.minv_yy[i];
+    m.strain.w_xx[i] = sxx * mxx + sxy * mxy;
+    m.strain.w_xy[i] = sxx * mxy + sxy * myy;
+    m.strain.w_yx[i] = sxy * mxx + syy * mxy;
+    m.strain.w_yy[i] = sxy * mxy + syy * myy;
   }
 }
 
@@ -782,9 +782,9 @@ void gather_forces(Model& m) {
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
           const auto o = m.adj_other[k];
           const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
-          const double ci = m.strain_ok[o] ? 1.0 : 0.0, co = m.strain_ok[i] ? 1.0 : 0.0;
-          const double wxx = ci * m.w_xx[i] + co * m.w_xx[o], wxy = ci * m.w_xy[i] + co * m.w_xy[o];
-          const double wyx = ci * m.w_yx[i] + co * m.w_yx[o], wyy = ci * m.w_yy[i] + co * m.w_yy[o];
+          const double ci = m.strain.ok[o] ? 1.0 : 0.0, co = m.strain.ok[i] ? 1.0 : 0.0;
+          const double wxx = ci * m.strain.w_xx[i] + co * m.strain.w_xx[o], wxy = ci * m.strain.w_xy[i] + co * m.strain.w_xy[o];
+          const double wyx = ci * m.strain.w_yx[i] + co * m.strain.w_yx[o], wyy = ci * m.strain.w_yy[i] + co * m.strain.w_yy[o];
           fx += wxx * ax + wxy * ay;
           fy += wyx * ax + wyy * ay;
         }
@@ -932,7 +932,7 @@ HalfStep own_half_step(const Model& m, std::size_t b, double dt, bool local) {
   double d_us = 0.0;
   if (!local) {
     d_us = dt * (-dvx * m.ny[b] + dvy * m.nx[b] - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
-  } else if (m.strain_ok[i] && m.strain_ok[j]) {
+  } else if (m.strain.ok[i] && m.strain.ok[j]) {
     const std::array<double, 3> ri = fit_gradient(m, i, m.vx, m.vy), rj = fit_gradient(m, j, m.vx, m.vy);
     d_us = dt * (m.g_xx[b] * (ri[0] + rj[0]) + m.g_yy[b] * (ri[1] + rj[1]) + 2.0 * m.g_xy[b] * (ri[2] + rj[2]));
   }
@@ -1029,7 +1029,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       // shear energy of the disks' other bonds by an amount of either sign, and a break
       // could release negative energy.
       for (std::size_t i : disks) {
-        const double exx = m.eps_xx[i], eyy = m.eps_yy[i], exy = m.eps_xy[i];
+        const double exx = m.strain.eps_xx[i], eyy = m.strain.eps_yy[i], exy = m.strain.eps_xy[i];
         const double hoop_before = hoop ? hoop_energy(m, i) : 0.0;
         // Its hoop term keeps only the square of the hoop stress from now on, A b s^2 / (2M)
         // (s = M eps_tt + lambda tr), less a constant that keeps the energy continuous. The
@@ -1052,12 +1052,12 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
         // frozen strain as the disk's stress (softening_bond).
         update_strain_matrix(m, i);
         disk_strain(m, i);
-        m.eps_off_xx[i] += m.eps_xx[i] - exx;
-        m.eps_off_yy[i] += m.eps_yy[i] - eyy;
-        m.eps_off_xy[i] += m.eps_xy[i] - exy;
-        m.eps_xx[i] = exx;
-        m.eps_yy[i] = eyy;
-        m.eps_xy[i] = exy;
+        m.strain.eps_off_xx[i] += m.strain.eps_xx[i] - exx;
+        m.strain.eps_off_yy[i] += m.strain.eps_yy[i] - eyy;
+        m.strain.eps_off_xy[i] += m.strain.eps_xy[i] - exy;
+        m.strain.eps_xx[i] = exx;
+        m.strain.eps_yy[i] = eyy;
+        m.strain.eps_xy[i] = exy;
         restore_hoop();
       }
       for (std::size_t k = 0; k < count && local; ++k) {

@@ -164,8 +164,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   // softening criteria; a rotation-model plane run without softening needs none of them.
   m.uses_strains = shear_model == ShearModel::LocalStrain || axisym || m.any_j2 || m.any_softening;
   if (m.uses_strains) {
-    for (auto* v : {&m.minv_xx, &m.minv_xy, &m.minv_yy, &m.eps_xx, &m.eps_yy, &m.eps_xy, &m.w_xx, &m.w_xy, &m.w_yx,
-                    &m.w_yy})
+    for (auto* v : {&m.strain.minv_xx, &m.strain.minv_xy, &m.strain.minv_yy, &m.strain.eps_xx, &m.strain.eps_yy, &m.strain.eps_xy, &m.strain.w_xx, &m.strain.w_xy, &m.strain.w_yx,
+                    &m.strain.w_yy})
       v->assign(n, 0.0);
     for (auto* v : {&m.u_s, &m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
   }
@@ -267,7 +267,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (m.any_breakable) {
     for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact}) v->assign(n, 0.0);
     if (m.uses_strains)  // the strain carried across a change of fit
-      for (auto* v : {&m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy}) v->assign(n, 0.0);
+      for (auto* v : {&m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy}) v->assign(n, 0.0);
     if (axisym) {
       m.hoop_cut.assign(n, 0);
       m.hoop_const.assign(n, 0.0);
@@ -275,13 +275,13 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   }
   // Disks with a local strain of their own: eliminate those whose fit over the remaining
   // ones is singular until none is left (a chain of lone disks goes in a few rounds).
-  m.strain_ok.assign(n, 1);
+  m.strain.ok.assign(n, 1);
   for (bool changed = m.uses_strains; changed;) {
     update_strain_matrices(m);
     changed = false;
     for (std::size_t i = 0; i < n; ++i) {
-      if (m.strain_ok[i] && m.minv_xx[i] == 0 && m.minv_yy[i] == 0) {
-        m.strain_ok[i] = 0;
+      if (m.strain.ok[i] && m.strain.minv_xx[i] == 0 && m.strain.minv_yy[i] == 0) {
+        m.strain.ok[i] = 0;
         changed = true;
       }
     }
@@ -347,7 +347,7 @@ void reset_force_history(Model& m) {
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
   std::fill(m.hoop_cut.begin(), m.hoop_cut.end(), 0);
-  for (auto* v : {&m.hoop_const, &m.eps_off_xx, &m.eps_off_yy, &m.eps_off_xy, &m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0,
+  for (auto* v : {&m.hoop_const, &m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy, &m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0,
                   &m.cracks.delta_f, &m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.e_last}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
@@ -386,7 +386,7 @@ void update_strain_matrix(Model& m, std::size_t i) {
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
-    if (!m.bond_in_fit(b) || !m.strain_ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
+    if (!m.bond_in_fit(b) || !m.strain.ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
     const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
     sxx += ax * ax;
     sxy += ax * ay;
@@ -396,11 +396,11 @@ void update_strain_matrix(Model& m, std::size_t i) {
   const double det = sxx * syy - sxy * sxy;
   const double scale = sxx + syy;
   if (det > 1e-6 * scale * scale) {
-    m.minv_xx[i] = syy / det;
-    m.minv_yy[i] = sxx / det;
-    m.minv_xy[i] = -sxy / det;
+    m.strain.minv_xx[i] = syy / det;
+    m.strain.minv_yy[i] = sxx / det;
+    m.strain.minv_xy[i] = -sxy / det;
   } else {
-    m.minv_xx[i] = m.minv_yy[i] = m.minv_xy[i] = 0.0;
+    m.strain.minv_xx[i] = m.strain.minv_yy[i] = m.strain.minv_xy[i] = 0.0;
   }
 }
 

@@ -74,25 +74,25 @@ void check_break(const std::string& angle) {
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
   const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
   ASSERT_GT(m.f_n[b], 0.0) << "the bond is stretched: its contact carries no force";
-  const double eps_i[3] = {m.eps_xx[i], m.eps_yy[i], m.eps_xy[i]}, eps_j[3] = {m.eps_xx[j], m.eps_yy[j], m.eps_xy[j]};
+  const double eps_i[3] = {m.strain.eps_xx[i], m.strain.eps_yy[i], m.strain.eps_xy[i]}, eps_j[3] = {m.strain.eps_xx[j], m.strain.eps_yy[j], m.strain.eps_xy[j]};
   const double before = elastic_energy(m);
   m.newly_broken[b] = 2;  // tension
   ASSERT_EQ(settle_broken_bonds(m, dt), 1u);
   EXPECT_FALSE(m.bond_intact(b));
   // The disks' strains are carried over exactly.
-  EXPECT_EQ(m.eps_xx[i], eps_i[0]);
-  EXPECT_EQ(m.eps_yy[i], eps_i[1]);
-  EXPECT_EQ(m.eps_xy[i], eps_i[2]);
-  EXPECT_EQ(m.eps_xx[j], eps_j[0]);
-  EXPECT_EQ(m.eps_yy[j], eps_j[1]);
-  EXPECT_EQ(m.eps_xy[j], eps_j[2]);
+  EXPECT_EQ(m.strain.eps_xx[i], eps_i[0]);
+  EXPECT_EQ(m.strain.eps_yy[i], eps_i[1]);
+  EXPECT_EQ(m.strain.eps_xy[i], eps_i[2]);
+  EXPECT_EQ(m.strain.eps_xx[j], eps_j[0]);
+  EXPECT_EQ(m.strain.eps_yy[j], eps_j[1]);
+  EXPECT_EQ(m.strain.eps_xy[j], eps_j[2]);
   // The release is the bond's own springs' energy, and the model lost exactly that.
   EXPECT_NEAR(m.bond_fracture_energy(b), stored, 1e-12 * stored) << angle;
   EXPECT_NEAR(before - elastic_energy(m), stored, 1e-9 * stored) << angle;
   // From now on the disks' strains follow their new fits: one more increment moves them.
   for (std::size_t k = 0; k < m.num_disks(); ++k) m.ux[k] += 1e-7 * m.y0[k] / 0.02;
   compute_internal_forces(m, dt);
-  EXPECT_NE(m.eps_xy[i], eps_i[2]);
+  EXPECT_NE(m.strain.eps_xy[i], eps_i[2]);
 }
 
 TEST(BreakEnergy, ABreakReleasesExactlyItsBondsEnergyAtEveryLatticeAngle) {
@@ -118,7 +118,7 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
     const auto b = m.adj_bond(k);
     const double stored = 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) + 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
     const bool stretched_now = m.f_n[b] > 0;
-    const double eps[3] = {m.eps_xx[i], m.eps_yy[i], m.eps_xy[i]};
+    const double eps[3] = {m.strain.eps_xx[i], m.strain.eps_yy[i], m.strain.eps_xy[i]};
     const double before = elastic_energy(m);
     m.newly_broken[b] = 2;
     ASSERT_EQ(settle_broken_bonds(m, dt), 1u);
@@ -131,17 +131,17 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
         << "break " << broken;
     EXPECT_GE(m.bond_fracture_energy(b), 0.0);
     EXPECT_LE(m.bond_fracture_energy(b), stored * (1 + 1e-12));
-    EXPECT_EQ(m.eps_xx[i], eps[0]);
-    EXPECT_EQ(m.eps_yy[i], eps[1]);
-    EXPECT_EQ(m.eps_xy[i], eps[2]);
+    EXPECT_EQ(m.strain.eps_xx[i], eps[0]);
+    EXPECT_EQ(m.strain.eps_yy[i], eps[1]);
+    EXPECT_EQ(m.strain.eps_xy[i], eps[2]);
   }
-  EXPECT_EQ(m.minv_xx[i], 0.0) << "one bond left: no fit";
-  EXPECT_EQ(m.minv_yy[i], 0.0);
+  EXPECT_EQ(m.strain.minv_xx[i], 0.0) << "one bond left: no fit";
+  EXPECT_EQ(m.strain.minv_yy[i], 0.0);
   // Frozen: a further displacement of its neighbours does not move it.
-  const double frozen = m.eps_xx[i];
+  const double frozen = m.strain.eps_xx[i];
   for (std::size_t k = 0; k < m.num_disks(); ++k) m.ux[k] += 1e-7 * m.y0[k] / 0.02;
   compute_internal_forces(m, dt);
-  EXPECT_EQ(m.eps_xx[i], frozen);
+  EXPECT_EQ(m.strain.eps_xx[i], frozen);
 }
 
 // The reproducer, a steel disk at 50 m/s on a concrete plate with strengths, at

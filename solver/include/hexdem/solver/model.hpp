@@ -47,6 +47,27 @@ struct SofteningParams {
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
+/// The disks' local strain (physics.md section 4), per disk: the inverse of sum_k a_k a_k^T
+/// over the bonds of the fit (a_k reference bond vectors), the strain eps, and the conjugate
+/// tensor W. Allocated only when some term needs the strains (Model::uses_strains).
+struct LocalStrain {
+  std::vector<double> minv_xx, minv_xy, minv_yy;  ///< [1/m^2]; zero if singular
+  /// 1 if disk i has a local strain of its own in the initial lattice (two independent bonds
+  /// to such disks, found by elimination at build time), else 0. A disk without one (a lone
+  /// disk at a sharp tip of a rotated lattice, held by a single bond) enters no neighbour's
+  /// strain fit, and its bonds carry no local-strain shear: only their normal springs hold
+  /// it. Otherwise, with negative shear springs (nu > 1/4 in plane strain and axisymmetry),
+  /// its displacement could lower a neighbour's shear energy more than its one normal spring
+  /// raises it, and the lattice became indefinite (measured: the warhead's steel in free
+  /// flight at a lattice angle of 30 degrees blew up at step 190).
+  std::vector<std::uint8_t> ok;
+  std::vector<double> eps_xx, eps_yy, eps_xy;  ///< small strain [-]
+  /// Breakable models: the strain carried across changes of a disk's fit,
+  /// eps = fit(u) - eps_off (settle_broken_bonds) [-]; empty otherwise.
+  std::vector<double> eps_off_xx, eps_off_yy, eps_off_xy;
+  std::vector<double> w_xx, w_xy, w_yx, w_yy;  ///< W = S M^-1, S = dE/d(eps) [N/m]
+};
+
 /// The crack state of softening bonds (docs/model.md, "Fracture energy and softening"), per
 /// bond; allocated only when some material has a fracture energy.
 struct BondCracks {
@@ -117,31 +138,15 @@ struct Model {
   std::vector<double> wall_kx, wall_ky;    ///< spring to a mirror plane [N/m]: F = -k u
   std::vector<double> wall_sx, wall_sy;    ///< +-1: side of the plane (outward normal), 0 none
 
-  // Local strain (physics.md section 4): per disk, the inverse of sum_k a_k a_k^T over the
-  // intact bonds (a_k reference bond vectors), the strain eps, and the conjugate tensor S.
-  std::vector<double> minv_xx, minv_xy, minv_yy;  ///< [1/m^2]; zero if singular
-  /// 1 if disk i has a local strain of its own in the initial lattice (two independent bonds
-  /// to such disks, found by elimination at build time), else 0. A disk without one (a lone
-  /// disk at a sharp tip of a rotated lattice, held by a single bond) enters no neighbour's
-  /// strain fit, and its bonds carry no local-strain shear: only their normal springs hold
-  /// it. Otherwise, with negative shear springs (nu > 1/4 in plane strain and axisymmetry),
-  /// its displacement could lower a neighbour's shear energy more than its one normal spring
-  /// raises it, and the lattice became indefinite (measured: the warhead's steel in free
-  /// flight at a lattice angle of 30 degrees blew up at step 190).
-  std::vector<std::uint8_t> strain_ok;
   /// Some term needs the disks' strains (local-strain shear, hoop, J2, softening): the
-  /// strain arrays (minv, eps, w, u_s, g, adj_other) exist only then.
+  /// strain arrays (strain, u_s, g, adj_other) exist only then.
   bool uses_strains = false;
-  std::vector<double> eps_xx, eps_yy, eps_xy;     ///< small strain [-]
-  /// Breakable models with strains: the strain carried across changes of a disk's fit,
-  /// eps = fit(u) - eps_off (settle_broken_bonds) [-]; empty otherwise.
-  std::vector<double> eps_off_xx, eps_off_yy, eps_off_xy;
+  LocalStrain strain;
   /// Breakable axisymmetric models: 1 once the disk has lost a neighbour (its hoop term keeps
   /// only the square of the hoop stress), and the constant that kept its energy continuous
   /// then [J]; empty otherwise.
   std::vector<std::uint8_t> hoop_cut;
   std::vector<double> hoop_const;
-  std::vector<double> w_xx, w_xy, w_yx, w_yy;     ///< W = S M^-1, S = dE/d(eps) [N/m]
   /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
   /// the disks of J2 materials, 0 for the others; empty in models without the term).
   std::vector<double> hoop_lambda, hoop_mu;
