@@ -87,16 +87,16 @@ void visit_model(M& m, V& v) {
   v.state("contact_damping", m.contact_damping);
   v.state("contact_omega2", m.contact_omega2);
   v.state("time", m.time);
-  v.state("f_yield", m.f_yield);
-  v.state("kh_n", m.kh_n); v.state("kh_s", m.kh_s);
-  v.state("alpha_n", m.alpha_n); v.state("alpha_s", m.alpha_s);
+  v.state("f_yield", m.bond_plastic.f_yield);
+  v.state("kh_n", m.bond_plastic.kh_n); v.state("kh_s", m.bond_plastic.kh_s);
+  v.state("alpha_n", m.bond_plastic.alpha_n); v.state("alpha_s", m.bond_plastic.alpha_s);
   v.state("len_prev", m.len_prev);
   v.state("section", m.section);
   v.rebuilt("body_mu", m.body_mu);  // per body, from the materials
   v.rebuilt("body_failure_law", m.body_failure_law);
   v.rebuilt("failure_laws", m.failure_laws);
   v.state("failure_tan_phi", m.failure_tan_phi);
-  v.state("plastic_work", m.plastic_work);
+  v.state("plastic_work", m.bond_plastic.work);
   v.state("failed_rows", m.failed_rows);
   v.state("failed_row", m.failed_row);
   v.state("newly_broken", m.newly_broken);

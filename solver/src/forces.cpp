@@ -311,11 +311,11 @@ double intact_bond_energy(const Model& m, std::size_t b) {
   double e = m.kn(b) != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) : 0.0;
   if (m.ks(b) != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
   if (m.yields(b)) {
-    const double hn = m.kn(b) * m.kh_n[b] / (m.kn(b) - m.kh_n[b]);
-    if (hn > 0) e += 0.5 * m.alpha_n[b] * m.alpha_n[b] / hn;
+    const double hn = m.kn(b) * m.bond_plastic.kh_n[b] / (m.kn(b) - m.bond_plastic.kh_n[b]);
+    if (hn > 0) e += 0.5 * m.bond_plastic.alpha_n[b] * m.bond_plastic.alpha_n[b] / hn;
     if (m.ks(b) > 0) {
-      const double hs = m.ks(b) * m.kh_s[b] / (m.ks(b) - m.kh_s[b]);
-      if (hs > 0) e += 0.5 * m.alpha_s[b] * m.alpha_s[b] / hs;
+      const double hs = m.ks(b) * m.bond_plastic.kh_s[b] / (m.ks(b) - m.bond_plastic.kh_s[b]);
+      if (hs > 0) e += 0.5 * m.bond_plastic.alpha_s[b] * m.bond_plastic.alpha_s[b] / hs;
     }
   }
   return e;
@@ -560,25 +560,25 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
       }
     }
     bool hardening = false;
-    if constexpr (Plastic) hardening = m.f_yield[b] > 0;
+    if constexpr (Plastic) hardening = m.bond_plastic.f_yield[b] > 0;
     if (hardening) {
       // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
-      laws::BilinearState sn{m.f_n[b], m.alpha_n[b]};
-      const laws::BilinearKinematic normal{kn_of[kb], m.kh_n[b], m.f_yield[b]};
+      laws::BilinearState sn{m.f_n[b], m.bond_plastic.alpha_n[b]};
+      const laws::BilinearKinematic normal{kn_of[kb], m.bond_plastic.kh_n[b], m.bond_plastic.f_yield[b]};
       double work = normal.update(sn, du_n).dissipation_trapezoid;
       m.f_n[b] = sn.f;
-      m.alpha_n[b] = sn.alpha;
+      m.bond_plastic.alpha_n[b] = sn.alpha;
       if (ks_of[kb] > 0) {
-        laws::BilinearState ss{m.f_s[b], m.alpha_s[b]};
-        const laws::BilinearKinematic shear{ks_of[kb], m.kh_s[b], m.f_yield[b]};
+        laws::BilinearState ss{m.f_s[b], m.bond_plastic.alpha_s[b]};
+        const laws::BilinearKinematic shear{ks_of[kb], m.bond_plastic.kh_s[b], m.bond_plastic.f_yield[b]};
         work += shear.update(ss, du_s).dissipation_trapezoid;
         m.f_s[b] = ss.f;
-        m.alpha_s[b] = ss.alpha;
+        m.bond_plastic.alpha_s[b] = ss.alpha;
       } else {
         m.f_s[b] += ks_of[kb] * du_s;
       }
-      m.plastic_work[b] += work;
-      if (m.alpha_n[b] != 0.0 || m.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+      m.bond_plastic.work[b] += work;
+      if (m.bond_plastic.alpha_n[b] != 0.0 || m.bond_plastic.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
     } else {
       // Eq. 2 (normal spring on the current length, objective) and the shear spring.
       m.f_n[b] = kn_of[kb] * (len - m.rest_length[b]);
@@ -891,7 +891,7 @@ double elastic_energy(const Model& m) {
 BondDissipation bond_dissipation(const Model& m) {
   BondDissipation d;
   const std::size_t nb = m.num_bonds();
-  if (!m.plastic_work.empty()) d.plastic = deterministic_sum(nb, [&](std::size_t b) { return m.plastic_work[b]; }, m.scratch);
+  if (!m.bond_plastic.work.empty()) d.plastic = deterministic_sum(nb, [&](std::size_t b) { return m.bond_plastic.work[b]; }, m.scratch);
   if (m.any_j2) {
     // J2 disks: the work done on eps_p (bonds above, out-of-plane term here) less what the
     // back stress holds (booked as stored energy in elastic_energy).
@@ -1017,7 +1017,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
       // The bond becomes a contact that starts now: no shear history, the normal force of
       // its overlap (a bond that breaks in compression keeps pushing).
       m.f_n[b] = m.f_s[b] = 0.0;
-      if (!m.alpha_n.empty()) m.alpha_n[b] = m.alpha_s[b] = 0.0;
+      if (!m.bond_plastic.alpha_n.empty()) m.bond_plastic.alpha_n[b] = m.bond_plastic.alpha_s[b] = 0.0;
       if (!m.u_s.empty()) m.u_s[b] = 0.0;  // the local-strain or softening shear measure
       broken_bond_contact(m, b, m.len_prev[b], m.nx[b], m.ny[b], dt, 0.0);
     }

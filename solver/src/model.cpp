@@ -120,7 +120,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   // increments, and the contacts of broken bonds.
   if (plastic_springs || breakable) m.len_prev.assign(nb, 0.0);
   if (plastic_springs)
-    for (auto* v : {&m.f_yield, &m.kh_n, &m.kh_s, &m.alpha_n, &m.alpha_s, &m.plastic_work}) v->assign(nb, 0.0);
+    for (auto* v : {&m.bond_plastic.f_yield, &m.bond_plastic.kh_n, &m.bond_plastic.kh_s, &m.bond_plastic.alpha_n, &m.bond_plastic.alpha_s, &m.bond_plastic.work}) v->assign(nb, 0.0);
   if (breakable) {
     m.failed_row.assign(nb, -1);  // the cracked and broken bonds' rows (Model::failed)
     // Per bond where the springs are (axisymmetric); otherwise recomputed (Model::bond_section).
@@ -227,9 +227,9 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     if (bm.material->plastic() && !bm.j2) {
       // Hardening springs: section 3 with E_t in place of E, i.e. k E_t / E.
       const double ratio = bm.material->tangent_modulus / bm.material->E;
-      m.f_yield[b] = bm.material->yield_stress * section;
-      m.kh_n[b] = kn * ratio;
-      m.kh_s[b] = ks * ratio;
+      m.bond_plastic.f_yield[b] = bm.material->yield_stress * section;
+      m.bond_plastic.kh_n[b] = kn * ratio;
+      m.bond_plastic.kh_s[b] = ks * ratio;
       m.any_plastic = true;
     }
     ++bond_count[i];
@@ -338,7 +338,7 @@ Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thicknes
 }
 
 void reset_force_history(Model& m) {
-  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.alpha_n, &m.alpha_s}) std::fill(v->begin(), v->end(), 0.0);
+  for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.bond_plastic.alpha_n, &m.bond_plastic.alpha_s}) std::fill(v->begin(), v->end(), 0.0);
   m.failed_rows.clear();
   std::fill(m.failed_row.begin(), m.failed_row.end(), -1);
   if (!m.len_prev.empty()) m.len_prev = m.rest_length;
@@ -377,7 +377,7 @@ void reset_bond_history(Model& m) {
   reset_force_history(m);
   // The cumulative energies kept per bond and disk (the failed bonds' rows went with the
   // force history).
-  for (auto* v : {&m.plastic_work, &m.hoop_cracks.fracture, &m.hoop_cracks.break_kinetic, &m.j2.work})
+  for (auto* v : {&m.bond_plastic.work, &m.hoop_cracks.fracture, &m.hoop_cracks.break_kinetic, &m.j2.work})
     std::fill(v->begin(), v->end(), 0.0);
 }
 

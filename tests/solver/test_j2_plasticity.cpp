@@ -248,8 +248,8 @@ CycleResult strain_cycle(Geometry g, const std::vector<std::array<double, 3>>& l
     const double h = m.j2.h[i] / 3 * (p_xx * p_xx + p_yy * p_yy + p_33 * p_33 + 2 * p_xy * p_xy) * v;
     stored += h;
     double w = m.j2.work[i];
-    if (!m.plastic_work.empty())  // bilinear springs only (the J2 disks' bonds are elastic)
-      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) w += 0.5 * m.plastic_work[m.adj_bond(k)];
+    if (!m.bond_plastic.work.empty())  // bilinear springs only (the J2 disks' bonds are elastic)
+      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) w += 0.5 * m.bond_plastic.work[m.adj_bond(k)];
     lattice += w - h;
   }
   out.dissipation_ratio = lattice / dissipation;
@@ -594,7 +594,7 @@ TEST(J2Input, AutoChoosesTheModelFromTheShearSprings) {
   Case c = parse_case(text, "impact.toml", ".");
   Solver spring(c, mesh_case(c));
   EXPECT_FALSE(spring.model().any_j2);
-  EXPECT_GT(spring.model().f_yield[0], 0.0);
+  EXPECT_GT(spring.model().bond_plastic.f_yield[0], 0.0);
   ASSERT_EQ(spring.plasticity_report().size(), 1u);
   EXPECT_NE(spring.plasticity_report()[0].find("plasticity spring"), std::string::npos);
   // nu = 0.3: negative shear springs, J2 per disk; the springs stay elastic.
@@ -602,7 +602,7 @@ TEST(J2Input, AutoChoosesTheModelFromTheShearSprings) {
   Solver j2(c, mesh_case(c));
   EXPECT_TRUE(j2.model().any_j2);
   EXPECT_FALSE(j2.model().yields(0));
-  EXPECT_TRUE(j2.model().f_yield.empty());  // no bilinear springs: their arrays are not allocated
+  EXPECT_TRUE(j2.model().bond_plastic.f_yield.empty());  // no bilinear springs: their arrays are not allocated
   ASSERT_EQ(j2.plasticity_report().size(), 1u);
   EXPECT_NE(j2.plasticity_report()[0].find("plasticity j2"), std::string::npos) << j2.plasticity_report()[0];
 }

@@ -47,6 +47,15 @@ struct SofteningParams {
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
+/// The bilinear hardening springs of the per-spring plasticity (Eq. 16; docs/laws.md), per
+/// bond; allocated only when some bond has a yield force (Model::any_plastic).
+struct BondPlasticity {
+  std::vector<double> f_yield;           ///< yield force sigma_y 2r w [N]; 0: elastic springs
+  std::vector<double> kh_n, kh_s;        ///< hardening stiffnesses [N/m]
+  std::vector<double> alpha_n, alpha_s;  ///< back-forces of the normal and shear springs [N]
+  std::vector<double> work;              ///< cumulative plastic work [J], summed only when reported
+};
+
 /// The disks' local strain (physics.md section 4), per disk: the inverse of sum_k a_k a_k^T
 /// over the bonds of the fit (a_k reference bond vectors), the strain eps, and the conjugate
 /// tensor W. Allocated only when some term needs the strains (Model::uses_strains).
@@ -182,9 +191,7 @@ struct Model {
   /// m_eff contact_omega2 (Solver::setup_contact_resolution); infinite: no cap.
   double contact_omega2 = std::numeric_limits<double>::infinity();
   double time = 0;                       ///< time of the current force evaluation [s]
-  std::vector<double> f_yield;           ///< yield force sigma_y 2r w [N]; 0: elastic springs
-  std::vector<double> kh_n, kh_s;        ///< hardening stiffnesses [N/m]
-  std::vector<double> alpha_n, alpha_s;  ///< back-forces of the normal and shear springs [N]
+  BondPlasticity bond_plastic;
   std::vector<double> len_prev;          ///< length at the previous force evaluation [m]
   /// Bond section 2r w [m^2] (strength = stress x section), read through bond_section(b):
   /// stored per bond in axisymmetric models (w: the ring radius), recomputed from the disk's
@@ -197,8 +204,6 @@ struct Model {
   std::vector<std::int32_t> body_failure_law;
   std::vector<laws::MohrCoulombFailure> failure_laws;
   std::vector<double> failure_tan_phi;   ///< tan(phi) of each failure law
-  // Cumulative energies per bond [J], summed only when reported (deterministic).
-  std::vector<double> plastic_work;
   /// A bond that has started to crack or has broken: its fracture energy (what its damage
   /// steps and its break released, >= 0) and the leap-frog kinetic energy that they moved, of
   /// either sign (a change of the force at t_n by dF changes v(t-dt/2).v(t+dt/2)/2 by
@@ -313,7 +318,7 @@ struct Model {
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
   /// Bond b has bilinear hardening springs (Eq. 16); the arrays exist only if some do.
-  [[nodiscard]] bool yields(std::size_t b) const { return !f_yield.empty() && f_yield[b] > 0; }
+  [[nodiscard]] bool yields(std::size_t b) const { return !bond_plastic.f_yield.empty() && bond_plastic.f_yield[b] > 0; }
   [[nodiscard]] bool on_mirror(std::size_t i) const { return !mirror_plane.empty() && mirror_plane[i] != 0; }
   /// Some disk has a spring to a mirror plane (wall_* exist only then).
   [[nodiscard]] bool has_mirror_springs() const { return !wall_kx.empty(); }
