@@ -70,8 +70,8 @@ void Solver::setup_boundaries() {
         case BoundaryCondition::Kind::Symmetry:
           bits |= kFixRotation;
           if (lattice_.set_distance[e] < 1e-3 * model_.radius[i]) {
-            if (model_.mirror_plane.empty()) model_.mirror_plane.assign(model_.num_disks(), 0);
-            model_.mirror_plane[i] = 1;
+            if (model_.mirror.plane.empty()) model_.mirror.plane.assign(model_.num_disks(), 0);
+            model_.mirror.plane[i] = 1;
           }
           break;
         case BoundaryCondition::Kind::Velocity:
@@ -128,9 +128,9 @@ void Solver::setup_mirror_springs(const BoundaryCondition& bc, int s) {
     if (case_.geometry == Geometry::Axisymmetric) w = c == 0 ? model_.x0[i] + normal * lattice_.set_distance[e] : model_.x0[i];
     const double k = 2.0 * (class1 ? K.kn1 : K.kn2) * w;
     if (!model_.has_mirror_springs())  // allocated for the cases that have mirror springs
-      for (auto* v : {&model_.wall_kx, &model_.wall_ky, &model_.wall_sx, &model_.wall_sy}) v->assign(model_.num_disks(), 0.0);
-    (c == 0 ? model_.wall_kx : model_.wall_ky)[i] = k;
-    (c == 0 ? model_.wall_sx : model_.wall_sy)[i] = normal > 0 ? 1.0 : -1.0;
+      for (auto* v : {&model_.mirror.kx, &model_.mirror.ky, &model_.mirror.sx, &model_.mirror.sy}) v->assign(model_.num_disks(), 0.0);
+    (c == 0 ? model_.mirror.kx : model_.mirror.ky)[i] = k;
+    (c == 0 ? model_.mirror.sx : model_.mirror.sy)[i] = normal > 0 ? 1.0 : -1.0;
   }
 }
 
@@ -207,7 +207,7 @@ void Solver::setup_reactions() {
         if (held_by_set(lattice_, e, model_.radius[i])) held[static_cast<std::size_t>(e - first)] |= bits;
         // A mirror plane's springs to the disks one radius off it (setup_mirror_springs)
         // are part of the condition: their force -k u is the plane's on the body.
-        const double k = !model_.has_mirror_springs() ? 0.0 : bc.component == 0 ? model_.wall_kx[i] : model_.wall_ky[i];
+        const double k = !model_.has_mirror_springs() ? 0.0 : bc.component == 0 ? model_.mirror.kx[i] : model_.mirror.ky[i];
         if (bc.kind == BoundaryCondition::Kind::Symmetry && k != 0 &&
             std::abs(lattice_.set_distance[e] - model_.radius[i]) <= 1e-6 * model_.radius[i])
           spring[static_cast<std::size_t>(e - first)] |= static_cast<std::uint8_t>(1 << bc.component);
@@ -256,9 +256,9 @@ std::array<double, 2> Solver::reaction(std::size_t k) const {
   for (std::size_t j = 0; j < rs.spring_disks.size(); ++j) {
     const auto i = static_cast<std::size_t>(rs.spring_disks[j]);
     if (rs.spring_axis[j] == 0) {
-      rx -= m.wall_kx[i] * m.ux[i];
+      rx -= m.mirror.kx[i] * m.ux[i];
     } else {
-      ry -= m.wall_ky[i] * m.uy[i];
+      ry -= m.mirror.ky[i] * m.uy[i];
     }
   }
   // Loads of a set without a condition, at the time of the force pass (apply_external_forces).

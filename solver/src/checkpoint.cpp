@@ -57,17 +57,17 @@ void visit_model(M& m, V& v) {
   v.state("kind", m.kind);
   v.state("body", m.body); v.state("body_material", m.body_material);
   v.state("constraint", m.constraint);
-  v.state("mirror_plane", m.mirror_plane);
-  v.state("wall_kx", m.wall_kx); v.state("wall_ky", m.wall_ky);
-  v.state("wall_sx", m.wall_sx); v.state("wall_sy", m.wall_sy);
+  v.state("mirror_plane", m.mirror.plane);
+  v.state("wall_kx", m.mirror.kx); v.state("wall_ky", m.mirror.ky);
+  v.state("wall_sx", m.mirror.sx); v.state("wall_sy", m.mirror.sy);
   v.state("minv_xx", m.strain.minv_xx); v.state("minv_xy", m.strain.minv_xy); v.state("minv_yy", m.strain.minv_yy);
   v.state("strain_ok", m.strain.ok);
   v.state("eps_xx", m.strain.eps_xx); v.state("eps_yy", m.strain.eps_yy); v.state("eps_xy", m.strain.eps_xy);
   v.state("eps_off_xx", m.strain.eps_off_xx); v.state("eps_off_yy", m.strain.eps_off_yy); v.state("eps_off_xy", m.strain.eps_off_xy);
-  v.state("hoop_cut", m.hoop_cut); v.state("hoop_const", m.hoop_const);
+  v.state("hoop_cut", m.hoop.cut); v.state("hoop_const", m.hoop.constant);
   v.state("w_xx", m.strain.w_xx); v.state("w_xy", m.strain.w_xy); v.state("w_yx", m.strain.w_yx); v.state("w_yy", m.strain.w_yy);
-  v.state("hoop_lambda", m.hoop_lambda); v.state("hoop_mu", m.hoop_mu);
-  v.state("nu_zz", m.nu_zz);
+  v.state("hoop_lambda", m.hoop.lambda); v.state("hoop_mu", m.hoop.mu);
+  v.state("nu_zz", m.hoop.nu_zz);
   v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);
   // bonds
   v.state("bi", m.bi); v.state("bj", m.bj);

@@ -86,13 +86,13 @@ inline double hoop_strain(const Model& m, std::size_t i) {
 /// then (settle_broken_bonds; docs/model.md, "Energy at a break").
 double hoop_energy(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
-  const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
+  const double lam = m.hoop.lambda[i], mu = m.hoop.mu[i];
   const double tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
-  if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
+  if (!m.hoop.cut.empty() && m.hoop.cut[i]) {
     // A disk that has lost a neighbour: the hoop stress's square only (see hoop_stress).
     const double M = lam + 2 * mu, s = M * eps_tt + lam * tr;
     const double g = !m.hoop_cracks.damage.empty() && s > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
-    return m.cell_area[i] * m.disk_weight(i) * g * s * s / (2 * M) - m.hoop_const[i];
+    return m.cell_area[i] * m.disk_weight(i) * g * s * s / (2 * M) - m.hoop.constant[i];
   }
   const double g = !m.hoop_cracks.damage.empty() && eps_tt > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
   return g * m.cell_area[i] * m.disk_weight(i) * ((lam + 2 * mu) * 0.5 * eps_tt * eps_tt + lam * eps_tt * tr);
@@ -105,10 +105,10 @@ struct HoopStress {
 };
 inline HoopStress hoop_stress(const Model& m, std::size_t i) {
   const double eps_tt = hoop_strain(m, i);
-  const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
+  const double lam = m.hoop.lambda[i], M = lam + 2 * m.hoop.mu[i];
   const double tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
   const double s = M * eps_tt + lam * tr;
-  if (!m.hoop_cut.empty() && m.hoop_cut[i]) {
+  if (!m.hoop.cut.empty() && m.hoop.cut[i]) {
     const double g = !m.hoop_cracks.damage.empty() && s > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
     return {g * s, g * s * lam / M};
   }
@@ -131,7 +131,7 @@ void update_hoop_damage(Model& m) {
     const auto i = static_cast<std::size_t>(ii);
     const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
     if (!(sp.G_F > 0) || !m.strain.ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
-    const double lam = m.hoop_lambda[i], M = lam + 2 * m.hoop_mu[i];
+    const double lam = m.hoop.lambda[i], M = lam + 2 * m.hoop.mu[i];
     const double s = M * hoop_strain(m, i) + lam * (m.strain.eps_xx[i] + m.strain.eps_yy[i]);
     const double e = s / M;
     const double e_last = m.hoop_cracks.e_last[i];
@@ -151,7 +151,7 @@ void update_hoop_damage(Model& m) {
       // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
       // dD (E_h - half step of the force drop), the half step taken as for the bonds).
       const double eps_tt = hoop_strain(m, i), tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
-      const bool cut = !m.hoop_cut.empty() && m.hoop_cut[i];
+      const bool cut = !m.hoop.cut.empty() && m.hoop.cut[i];
       const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
                             : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
       if (d > m.hoop_cracks.damage[i] && (cut || eps_tt > 0) && eh > 0) {
@@ -176,7 +176,7 @@ double j2_correction_energy(const Model& m, std::size_t i) {
   const double pxx = m.j2.eps_p_xx[i], pyy = m.j2.eps_p_yy[i], pxy = m.j2.eps_p_xy[i], p33 = m.j2.eps_p_33[i];
   const double pp = pxx * pxx + pyy * pyy + p33 * p33 + 2 * pxy * pxy;
   const double ep = m.strain.eps_xx[i] * pxx + m.strain.eps_yy[i] * pyy + hoop_strain(m, i) * p33 + 2 * m.strain.eps_xy[i] * pxy;
-  return m.cell_area[i] * m.disk_weight(i) * m.hoop_mu[i] * (pp - 2 * ep);
+  return m.cell_area[i] * m.disk_weight(i) * m.hoop.mu[i] * (pp - 2 * ep);
 }
 
 /// Continuum stress C : (eps - eps_p) of J2 disk i [Pa] (3D isotropic; xy the tensor
@@ -185,7 +185,7 @@ struct DiskStress {
   double xx = 0, yy = 0, xy = 0, s33 = 0;
 };
 inline DiskStress j2_stress(const Model& m, std::size_t i) {
-  const double lam = m.hoop_lambda[i], mu = m.hoop_mu[i];
+  const double lam = m.hoop.lambda[i], mu = m.hoop.mu[i];
   const double exx = m.strain.eps_xx[i] - m.j2.eps_p_xx[i], eyy = m.strain.eps_yy[i] - m.j2.eps_p_yy[i];
   const double exy = m.strain.eps_xy[i] - m.j2.eps_p_xy[i], e33 = hoop_strain(m, i) - m.j2.eps_p_33[i];
   const double lt = lam * (exx + eyy + e33);
@@ -214,7 +214,7 @@ void store_j2_stress(Model& m, std::size_t i) {
 /// work. The work done on eps_p is summed with the trapezoid rule over the step,
 /// (1/2) V (sigma before + after) : d(eps_p), as the leap-frog energy balance needs.
 void j2_return_mapping(Model& m, std::size_t i) {
-  const double mu = m.hoop_mu[i], H = m.j2.h[i], sigma_y = m.j2.sigma_y[i];
+  const double mu = m.hoop.mu[i], H = m.j2.h[i], sigma_y = m.j2.sigma_y[i];
   double dxx = 0, dyy = 0, dxy = 0, d33 = 0, deq = 0;
   // Only disks with a complete neighbourhood (six intact bonds) flow: at an edge the
   // least-squares strain's energy V psi(eps) can exceed what the disk's few bonds carry, and
@@ -222,7 +222,7 @@ void j2_return_mapping(Model& m, std::size_t i) {
   // up a block impact). Edge disks, and disks that lose a bond, keep their plastic strain.
   // A disk one radius off a mirror plane counts its spring to the plane (the bond to its
   // mirror image) as a bond.
-  int intact = (m.has_mirror_springs() && (m.wall_kx[i] != 0 || m.wall_ky[i] != 0)) ? 1 : 0;
+  int intact = (m.has_mirror_springs() && (m.mirror.kx[i] != 0 || m.mirror.ky[i] != 0)) ? 1 : 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k)
     intact += m.bond_intact(m.adj_bond(k)) ? 1 : 0;
   if (intact == 6) {
@@ -716,7 +716,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       syy += c;
     }
     if (m.any_j2 && m.j2.sigma_y[i] > 0) {
-      const double c = -2 * m.hoop_mu[i] * m.cell_area[i] * m.disk_weight(i);
+      const double c = -2 * m.hoop.mu[i] * m.cell_area[i] * m.disk_weight(i);
       sxx += c * m.j2.eps_p_xx[i];
       syy += c * m.j2.eps_p_yy[i];
       sxy += c * m.j2.eps_p_xy[i];
@@ -793,12 +793,12 @@ void gather_forces(Model& m) {
     if constexpr (Hoop) {
       // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
       double sigma_tt = hoop_stress(m, i).tt;
-      if constexpr (J2) sigma_tt -= 2 * m.hoop_mu[i] * m.j2.eps_p_33[i];
+      if constexpr (J2) sigma_tt -= 2 * m.hoop.mu[i] * m.j2.eps_p_33[i];
       fx -= m.cell_area[i] * sigma_tt;
     }
     if constexpr (Mirror) {
-      fx -= m.wall_kx[i] * m.ux[i];
-      fy -= m.wall_ky[i] * m.uy[i];
+      fx -= m.mirror.kx[i] * m.ux[i];
+      fy -= m.mirror.ky[i] * m.uy[i];
     }
     out_fx[i] = fx;
     out_fy[i] = fy;
@@ -868,7 +868,7 @@ double elastic_energy(const Model& m) {
   if (m.has_mirror_springs()) {
     e += deterministic_sum(
         m.num_disks(),
-        [&](std::size_t i) { return 0.5 * (m.wall_kx[i] * m.ux[i] * m.ux[i] + m.wall_ky[i] * m.uy[i] * m.uy[i]); },
+        [&](std::size_t i) { return 0.5 * (m.mirror.kx[i] * m.ux[i] * m.ux[i] + m.mirror.ky[i] * m.uy[i] * m.uy[i]); },
         m.scratch);
   }
   if (m.geometry == Geometry::Axisymmetric) {
@@ -1039,8 +1039,8 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
         // nose that had lost bonds reached -1 J/rad of hoop energy).
         const auto restore_hoop = [&] {
           if (!hoop) return;
-          m.hoop_cut[i] = 1;
-          m.hoop_const[i] += hoop_energy(m, i) - hoop_before;
+          m.hoop.cut[i] = 1;
+          m.hoop.constant[i] += hoop_energy(m, i) - hoop_before;
         };
         // With no fit left (fewer than two independent bonds: M^-1 = 0) the same rule keeps
         // the strain frozen at its last value, eps = -eps_off. Clearing it instead changed the
@@ -1148,8 +1148,8 @@ Stress disk_stress(const Model& m, std::size_t i) {
   }
   // The bond to the mirror image (symmetry planes): tension -k u.N along N.
   if (m.has_mirror_springs()) {
-    sxx -= m.wall_kx[i] * m.ux[i] * m.wall_sx[i];
-    syy -= m.wall_ky[i] * m.uy[i] * m.wall_sy[i];
+    sxx -= m.mirror.kx[i] * m.ux[i] * m.mirror.sx[i];
+    syy -= m.mirror.ky[i] * m.uy[i] * m.mirror.sy[i];
   }
   const double scale = m.radius[i] / (m.cell_area[i] * m.disk_weight(i));
   // Surface loads act on the disk at their own lever arms.
@@ -1162,7 +1162,7 @@ Stress disk_stress(const Model& m, std::size_t i) {
     st.yy += m.ext_myy[i] * ext;
     st.xy += m.ext_mxy[i] * ext;
   }
-  st.zz = m.nu_zz.empty() ? 0.0 : m.nu_zz[i] * (st.xx + st.yy);  // plane strain, isotropic only
+  st.zz = m.hoop.nu_zz.empty() ? 0.0 : m.hoop.nu_zz[i] * (st.xx + st.yy);  // plane strain, isotropic only
   if (m.geometry == Geometry::Axisymmetric) {
     const HoopStress h = hoop_stress(m, i);
     st.zz = h.tt;
@@ -1172,7 +1172,7 @@ Stress disk_stress(const Model& m, std::size_t i) {
   }
   if (m.any_j2 && m.j2.sigma_y[i] > 0) {
     // The plastic correction's share: -2 mu eps_p (tr(eps_p) = 0).
-    const double c = -2 * m.hoop_mu[i];
+    const double c = -2 * m.hoop.mu[i];
     st.xx += c * m.j2.eps_p_xx[i];
     st.yy += c * m.j2.eps_p_yy[i];
     st.xy += c * m.j2.eps_p_xy[i];

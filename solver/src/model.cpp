@@ -44,10 +44,10 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     plane_strain_nu = plane_strain_nu || (ps && bm.material->isotropic);
   }
   if (out_of_plane) {
-    m.hoop_lambda.assign(n, 0.0);
-    m.hoop_mu.assign(n, 0.0);
+    m.hoop.lambda.assign(n, 0.0);
+    m.hoop.mu.assign(n, 0.0);
   }
-  if (plane_strain_nu) m.nu_zz.assign(n, 0.0);
+  if (plane_strain_nu) m.hoop.nu_zz.assign(n, 0.0);
   m.constraint.assign(n, 0);
   // mirror_plane: allocated by the Solver if the case has a mirror plane (Model::on_mirror).
 
@@ -59,13 +59,13 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     const double w = axisym ? lat.cell_cx[i] : thickness;
     if (axisym) m.weight[i] = w;
     m.mass[i] = bm.material->density * m.cell_area[i] * w;
-    if (geometry == Geometry::PlaneStrain && bm.material->isotropic) m.nu_zz[i] = bm.material->nu;
+    if (geometry == Geometry::PlaneStrain && bm.material->isotropic) m.hoop.nu_zz[i] = bm.material->nu;
     // The out-of-plane term: the hoop strain of every ring (axisymmetric), and in plane
     // strain the J2 disks, whose plastic eigenstrain has a zz component.
     const bool j2 = bm.j2 && bm.material->plastic();
     if (axisym || (j2 && geometry == Geometry::PlaneStrain)) {
-      m.hoop_lambda[i] = bm.material->lame_lambda();
-      m.hoop_mu[i] = bm.material->lame_mu();
+      m.hoop.lambda[i] = bm.material->lame_lambda();
+      m.hoop.mu[i] = bm.material->lame_mu();
     }
     if (j2) {
       HEXDEM_VERIFY(geometry != Geometry::PlaneStress && shear_model == ShearModel::LocalStrain,
@@ -269,8 +269,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     if (m.uses_strains)  // the strain carried across a change of fit
       for (auto* v : {&m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy}) v->assign(n, 0.0);
     if (axisym) {
-      m.hoop_cut.assign(n, 0);
-      m.hoop_const.assign(n, 0.0);
+      m.hoop.cut.assign(n, 0);
+      m.hoop.constant.assign(n, 0.0);
     }
   }
   // Disks with a local strain of their own: eliminate those whose fit over the remaining
@@ -346,8 +346,8 @@ void reset_force_history(Model& m) {
                      std::any_of(m.cracks.cracking.begin(), m.cracks.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
-  std::fill(m.hoop_cut.begin(), m.hoop_cut.end(), 0);
-  for (auto* v : {&m.hoop_const, &m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy, &m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0,
+  std::fill(m.hoop.cut.begin(), m.hoop.cut.end(), 0);
+  for (auto* v : {&m.hoop.constant, &m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy, &m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0,
                   &m.cracks.delta_f, &m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.e_last}) {
     std::fill(v->begin(), v->end(), 0.0);
   }

@@ -47,6 +47,32 @@ struct SofteningParams {
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
+/// Symmetry planes, per disk: disks on an axis-aligned mirror plane have no shear strain
+/// (their local strain and its conjugate are projected on the mirror-symmetric part), and
+/// disks one radius off it are tied to it by the normal spring of the bond to their mirror
+/// image. Empty without a mirror plane.
+struct MirrorPlanes {
+  std::vector<std::uint8_t> plane;  ///< 1 if the disk lies on a mirror plane (Model::on_mirror)
+  std::vector<double> kx, ky;       ///< spring to a mirror plane [N/m]: F = -k u
+  std::vector<double> sx, sy;       ///< +-1: side of the plane (outward normal), 0 none
+};
+
+/// The out-of-plane term per disk (physics.md section 10): the hoop term of axisymmetric
+/// models and the plane-strain sigma_zz.
+struct OutOfPlane {
+  /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
+  /// the disks of J2 materials, 0 for the others; empty in models without the term).
+  std::vector<double> lambda, mu;
+  /// Breakable axisymmetric models: 1 once the disk has lost a neighbour (its hoop term keeps
+  /// only the square of the hoop stress), and the constant that kept its energy continuous
+  /// then [J]; empty otherwise.
+  std::vector<std::uint8_t> cut;
+  std::vector<double> constant;
+  /// Plane strain, isotropic: sigma_zz = nu (sxx + syy) (0 for the other disks); empty in
+  /// plane stress, axisymmetry and plane strain without an isotropic material.
+  std::vector<double> nu_zz;
+};
+
 /// The bilinear hardening springs of the per-spring plasticity (Eq. 16; docs/laws.md), per
 /// bond; allocated only when some bond has a yield force (Model::any_plastic).
 struct BondPlasticity {
@@ -140,28 +166,13 @@ struct Model {
   std::vector<std::int32_t> body;
   std::vector<std::int32_t> body_material;  ///< per body: its material id (disk_material(i))
   std::vector<std::uint8_t> constraint;  ///< ConstraintBits
-  /// Symmetry planes: disks on an axis-aligned mirror plane have no shear strain (their
-  /// local strain and its conjugate are projected on the mirror-symmetric part), and disks
-  /// one radius off it are tied to it by the normal spring of the bond to their mirror image.
-  std::vector<std::uint8_t> mirror_plane;  ///< 1 if the disk lies on a mirror plane; empty without one (on_mirror)
-  std::vector<double> wall_kx, wall_ky;    ///< spring to a mirror plane [N/m]: F = -k u
-  std::vector<double> wall_sx, wall_sy;    ///< +-1: side of the plane (outward normal), 0 none
+  MirrorPlanes mirror;
 
   /// Some term needs the disks' strains (local-strain shear, hoop, J2, softening): the
   /// strain arrays (strain, u_s, g, adj_other) exist only then.
   bool uses_strains = false;
   LocalStrain strain;
-  /// Breakable axisymmetric models: 1 once the disk has lost a neighbour (its hoop term keeps
-  /// only the square of the hoop stress), and the constant that kept its energy continuous
-  /// then [J]; empty otherwise.
-  std::vector<std::uint8_t> hoop_cut;
-  std::vector<double> hoop_const;
-  /// Lame constants [Pa] of the out-of-plane term (axisymmetric: every disk; plane strain:
-  /// the disks of J2 materials, 0 for the others; empty in models without the term).
-  std::vector<double> hoop_lambda, hoop_mu;
-  /// Plane strain, isotropic: sigma_zz = nu (sxx + syy) (0 for the other disks); empty in
-  /// plane stress, axisymmetry and plane strain without an isotropic material.
-  std::vector<double> nu_zz;
+  OutOfPlane hoop;
   std::vector<double> vx_old, vy_old, omega_old;  ///< velocities at t - 3dt/2 after a step
 
   // ---- bonds --------------------------------------------------------------------------
@@ -319,9 +330,9 @@ struct Model {
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
   /// Bond b has bilinear hardening springs (Eq. 16); the arrays exist only if some do.
   [[nodiscard]] bool yields(std::size_t b) const { return !bond_plastic.f_yield.empty() && bond_plastic.f_yield[b] > 0; }
-  [[nodiscard]] bool on_mirror(std::size_t i) const { return !mirror_plane.empty() && mirror_plane[i] != 0; }
+  [[nodiscard]] bool on_mirror(std::size_t i) const { return !mirror.plane.empty() && mirror.plane[i] != 0; }
   /// Some disk has a spring to a mirror plane (wall_* exist only then).
-  [[nodiscard]] bool has_mirror_springs() const { return !wall_kx.empty(); }
+  [[nodiscard]] bool has_mirror_springs() const { return !mirror.kx.empty(); }
 };
 
 /// Per-body material choice and spring constants, ready for Model construction.
