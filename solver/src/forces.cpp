@@ -81,7 +81,7 @@ inline double hoop_strain(const Model& m, std::size_t i) {
 /// (eps_rr + eps_zz)] [J] (physics.md section 10).
 /// With hoop cracking (damage D_h of a softening material's ring) the term is multiplied by
 /// 1 - D_h while the ring is stretched (eps_tt > 0). A disk that has lost a neighbour
-/// (hoop_cut) keeps only A b s^2 / (2M), s = M eps_tt + lambda tr the hoop stress,
+/// (hoop.cut) keeps only A b s^2 / (2M), s = M eps_tt + lambda tr the hoop stress,
 /// M = lambda + 2 mu, tr = eps_rr + eps_zz, less the constant that kept its energy continuous
 /// then (settle_broken_bonds; docs/model.md, "Energy at a break").
 double hoop_energy(const Model& m, std::size_t i) {

@@ -49,7 +49,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   }
   if (plane_strain_nu) m.hoop.nu_zz.assign(n, 0.0);
   m.constraint.assign(n, 0);
-  // mirror_plane: allocated by the Solver if the case has a mirror plane (Model::on_mirror).
+  // mirror.plane: allocated by the Solver if the case has a mirror plane (Model::on_mirror).
 
   // Mass from the cell area (physics.md section 1): m = rho A w, w = thickness (plane) or the
   // ring radius b of the cell centroid (axisymmetric, per radian); I = m r^2 / 2 is
