@@ -7,6 +7,13 @@
 ///
 /// Time integration (Eq. 5 / Eq. 18) lives in solver.hpp; this file holds the state and the
 /// kernels that turn displacements into forces.
+///
+/// The state each law keeps is a group of its own, allocated only when a case uses that law:
+/// Model::strain (the disks' local strain, LocalStrain), Model::hoop (the out-of-plane term,
+/// OutOfPlane), Model::mirror (MirrorPlanes), Model::bond_plastic (the bilinear springs of
+/// Eq. 16, BondPlasticity), Model::cracks and Model::hoop_cracks (softening, BondCracks and
+/// HoopCracks), Model::failed_rows (what only failed bonds carry, FailedBond) and Model::j2
+/// (disk plasticity, DiskPlasticity). The disks' and bonds' own arrays are Model's.
 
 #include <cstdint>
 #include <limits>
