@@ -854,8 +854,8 @@ void Reader::read_materials(const toml::table& root, Case& c) const {
       const bool per_disk = m.plasticity == PlasticityModel::J2 || dp;
       if (per_disk && c.geometry == Geometry::PlaneStress)
         fail(*p, where,
-             value + " is available in plane strain and axisymmetry only, not in plane stress; use \"spring\" "
-             "or \"auto\" (got " + value + ")");
+             value + " is available in plane strain and axisymmetry only, not in plane stress" +
+                 (dp ? std::string() : std::string("; use \"spring\" or \"auto\"")) + " (got " + value + ")");
       if (per_disk && c.shear_model == ShearModel::Rotation)
         fail(*p, where, value + " needs [case] shear_model = \"local-strain\" (got " + value + ")");
     }

@@ -112,20 +112,20 @@ std::optional<MaterialIssue> Material::check() const {
     if (tensile_strength > compressive_strength)
       return issue("tensile_strength",
                    "must not exceed compressive_strength = " + format_number(compressive_strength), tensile_strength);
-    if (!(friction_angle >= 0.0 && friction_angle < 90.0))
-      return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
   }
-  if (plasticity == PlasticityModel::DruckerPrager) {
+  const bool drucker_prager = plasticity == PlasticityModel::DruckerPrager;
+  if (drucker_prager) {
     // The cone's k = 6 c cos(phi) / (3 - sin(phi)) must be > 0: a zero yield stress marks a
     // disk without plasticity (DiskPlasticity::sigma_y).
     if (!(cohesion > 0.0) || !std::isfinite(cohesion))
       return issue("cohesion", "must be > 0 [Pa] with plasticity = \"drucker-prager\"", cohesion);
-    if (!(friction_angle >= 0.0 && friction_angle < 90.0))
-      return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
     if (breakable)
       return issue("plasticity", "\"drucker-prager\" disks do not break (docs/model.md, \"Drucker-Prager disks\")",
                    tensile_strength);
   }
+  // The Mohr-Coulomb angle of the failure criteria and of the Drucker-Prager cone.
+  if ((breakable || drucker_prager) && !(friction_angle >= 0.0 && friction_angle < 90.0))
+    return issue("friction_angle", "must lie in [0, 90) degrees", friction_angle);
   if (!(fracture_energy >= 0.0) || !std::isfinite(fracture_energy))
     return issue("fracture_energy", "must be >= 0 [J/m^2]", fracture_energy);
   if (fracture_energy > 0) {
@@ -145,6 +145,7 @@ std::optional<MaterialIssue> Material::check() const {
       return issue("tangent_modulus", "must lie in [0, E) with E = " + format_number(E), tangent_modulus);
     return std::nullopt;
   }
+  if (drucker_prager) return issue("c11", "plasticity = \"drucker-prager\" needs an isotropic material (E, nu)", c.c11);
   if (plastic()) return issue("yield_stress", "plasticity needs an isotropic material (E, nu)", yield_stress);
   if (!(c.c11 > 0.0) || !std::isfinite(c.c11)) return issue("c11", "must be > 0 [Pa]", c.c11);
   if (!(c.c22 > 0.0) || !std::isfinite(c.c22)) return issue("c22", "must be > 0 [Pa]", c.c22);

@@ -680,6 +680,10 @@ TEST(DruckerPrager, BadValuesAreRefused) {
                   {"impact.toml:", "material[0].yield_stress", "3e+07"});
   expect_mentions(input_error(with("cohesion = 11.5e6\n", "cohesion = 0\n")), {"cohesion", "drucker-prager"});
   expect_mentions(input_error(with("friction_angle = 30.0\n", "")), {"material[0].plasticity", "friction_angle"});
+  expect_mentions(input_error(with("friction_angle = 30.0\n", "friction_angle = 95.0\n")),
+                  {"material[0].friction_angle", "95"});
+  expect_mentions(input_error(with("E = 30e9\nnu = 0.2\n", "c11 = 33e9\nc12 = 8e9\nc22 = 33e9\nc66 = 12e9\n")),
+                  {"material[0].c11", "isotropic"});
   expect_mentions(input_error(with("axisymmetric", "plane-stress")),
                   {"material[0].plasticity", "plane stress", "\"drucker-prager\""});
   // Failure keys: the disks do not break.
