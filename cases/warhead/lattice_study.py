@@ -62,6 +62,8 @@ def run_member(args, speed, angle, radius, seed):
     case = os.path.join(HERE, (REDUCED if args.reduced else CASES)[speed])
     overrides = ["--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius,
                  "--set", "random.seed=%d" % seed]
+    for extra in args.set:
+        overrides += ["--set", extra]
     outline, rim = outline_for(case, overrides, work, args.hexdem)
     if outline is None:
         return tag, None, "hexdem check refused every rim position: %s" % rim
@@ -109,6 +111,8 @@ def main(argv):
     parser.add_argument("--seeds", type=int, nargs="+", default=[1])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--json")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="a further `hexdem run --set` override for every member (repeatable)")
     parser.add_argument("--reduced", action="store_true", help="case_ctest.toml (100 m/s only)")
     args = parser.parse_args(argv)
     if args.reduced and args.speeds != [100]:

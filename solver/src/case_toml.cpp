@@ -248,7 +248,7 @@ constexpr std::array<Key<MeshSettings>, 6> kMeshKeys{{
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
-constexpr std::array<Key<Material>, 20> kMaterialKeys{{
+constexpr std::array<Key<Material>, 21> kMaterialKeys{{
     {"id", true,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.id = static_cast<int>(in.integer(v, p, 0, INT_MAX));
@@ -291,6 +291,8 @@ constexpr std::array<Key<Material>, 20> kMaterialKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.fracture_energy = in.number(v, p); }},
     {"radial_cracks", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.radial_cracks = in.number(v, p); }},
+    {"nonlocal_radius", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.nonlocal_radius = in.number(v, p); }},
 }};
 constexpr std::array<std::string_view, 4> kFailureKeys{"tensile_strength", "compressive_strength", "cohesion",
                                                        "friction_angle"};

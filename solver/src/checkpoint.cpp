@@ -66,6 +66,13 @@ void visit_model(M& m, V& v) {
   v.state("eps_off_xx", m.strain.eps_off_xx); v.state("eps_off_yy", m.strain.eps_off_yy); v.state("eps_off_xy", m.strain.eps_off_xy);
   v.state("hoop_cut", m.hoop.cut); v.state("hoop_const", m.hoop.constant);
   v.state("w_xx", m.strain.w_xx); v.state("w_xy", m.strain.w_xy); v.state("w_yx", m.strain.w_yx); v.state("w_yy", m.strain.w_yy);
+  // The nonlocal criterion's rows (from the case and the reference lattice) and its averages
+  // (recomputed from the strains before every use).
+  v.rebuilt("nonlocal_radius", m.nonlocal.radius);
+  v.rebuilt("nonlocal_offset", m.nonlocal.offset); v.rebuilt("nonlocal_nbr", m.nonlocal.nbr);
+  v.rebuilt("nonlocal_w", m.nonlocal.w);
+  v.rebuilt("nonlocal_eps_xx", m.nonlocal.eps_xx); v.rebuilt("nonlocal_eps_yy", m.nonlocal.eps_yy);
+  v.rebuilt("nonlocal_eps_xy", m.nonlocal.eps_xy); v.rebuilt("nonlocal_eps_tt", m.nonlocal.eps_tt);
   v.state("hoop_lambda", m.hoop.lambda); v.state("hoop_mu", m.hoop.mu);
   v.state("nu_zz", m.hoop.nu_zz);
   v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);

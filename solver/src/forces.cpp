@@ -77,6 +77,29 @@ inline double hoop_strain(const Model& m, std::size_t i) {
   return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.disk_weight(i) : 0.0;
 }
 
+/// The nonlocal strains (Model::nonlocal): each disk's weighted mean of its neighbours'.
+void compute_nonlocal_strains(Model& m) {
+  NonlocalStrain& nl = m.nonlocal;
+  const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+  const bool axisym = m.geometry == Geometry::Axisymmetric;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    double exx = 0, eyy = 0, exy = 0, ett = 0;
+    for (std::uint32_t k = nl.offset[static_cast<std::size_t>(i)]; k < nl.offset[static_cast<std::size_t>(i) + 1]; ++k) {
+      const auto j = static_cast<std::size_t>(nl.nbr[k]);
+      const double w = nl.w[k];
+      exx += w * m.strain.eps_xx[j];
+      eyy += w * m.strain.eps_yy[j];
+      exy += w * m.strain.eps_xy[j];
+      if (axisym) ett += w * hoop_strain(m, j);
+    }
+    nl.eps_xx[static_cast<std::size_t>(i)] = exx;
+    nl.eps_yy[static_cast<std::size_t>(i)] = eyy;
+    nl.eps_xy[static_cast<std::size_t>(i)] = exy;
+    if (axisym) nl.eps_tt[static_cast<std::size_t>(i)] = ett;
+  }
+}
+
 /// Axisymmetric hoop term of disk i: A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt
 /// (eps_rr + eps_zz)] [J] (physics.md section 10).
 /// With hoop cracking (damage D_h of a softening material's ring) the term is multiplied by
@@ -440,7 +463,9 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // edge its normal force is the edge-parallel stress.
   // A disk that has lost its fit gives its frozen strain (settle_broken_bonds): excluding it
   // (Eq. 19 on the bond's own forces instead) made a rotated bar's crack dissipate 0.86 G_F A.
-  const bool full_i = m.strain.ok[i] && m.initial_bonds(i) == 6, full_j = m.strain.ok[j] && m.initial_bonds(j) == 6;
+  const bool nonlocal = !m.nonlocal.offset.empty();
+  const bool full_i = nonlocal ? m.nonlocal.offset[i + 1] > m.nonlocal.offset[i] : m.strain.ok[i] && m.initial_bonds(i) == 6;
+  const bool full_j = nonlocal ? m.nonlocal.offset[j + 1] > m.nonlocal.offset[j] : m.strain.ok[j] && m.initial_bonds(j) == 6;
   if (!full_i && !full_j) {
     const double sec = m.bond_section(b) * scale;
     if (laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec)) == laws::FailureMode::None)
@@ -457,10 +482,15 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   }
   // The continuum stress at the midpoint: C : (eps_i + eps_j) / 2 (with the hoop strain).
   const double wi = full_i ? (full_j ? 0.5 : 1.0) : 0.0, wj = 1.0 - wi;
-  const double exx = wi * m.strain.eps_xx[i] + wj * m.strain.eps_xx[j], eyy = wi * m.strain.eps_yy[i] + wj * m.strain.eps_yy[j];
-  const double exy = wi * m.strain.eps_xy[i] + wj * m.strain.eps_xy[j], tr = exx + eyy;
+  const std::vector<double>& gxx = nonlocal ? m.nonlocal.eps_xx : m.strain.eps_xx;
+  const std::vector<double>& gyy = nonlocal ? m.nonlocal.eps_yy : m.strain.eps_yy;
+  const std::vector<double>& gxy = nonlocal ? m.nonlocal.eps_xy : m.strain.eps_xy;
+  const double exx = wi * gxx[i] + wj * gxx[j], eyy = wi * gyy[i] + wj * gyy[j];
+  const double exy = wi * gxy[i] + wj * gxy[j], tr = exx + eyy;
   const bool axisym = m.geometry == Geometry::Axisymmetric;
-  const double ett = axisym ? wi * hoop_strain(m, i) + wj * hoop_strain(m, j) : 0.0;
+  const double ett = axisym ? (nonlocal ? wi * m.nonlocal.eps_tt[i] + wj * m.nonlocal.eps_tt[j]
+                                        : wi * hoop_strain(m, i) + wj * hoop_strain(m, j))
+                            : 0.0;
   const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
   const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
@@ -829,13 +859,15 @@ void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
 namespace {
 
 /// The passes of compute_internal_forces up to the gather, with the shear increments
-/// dt (vx, vy, om) of the rotation model.
-void force_passes(Model& m, double dt, const double* vx, const double* vy, const double* om) {
+/// dt (vx, vy, om) of the rotation model; `criteria`: the failure criteria will be checked
+/// (the nonlocal strains are needed).
+void force_passes(Model& m, double dt, const double* vx, const double* vy, const double* om, bool criteria) {
   const bool local = m.shear_model == ShearModel::LocalStrain;
   const bool hoop = m.geometry == Geometry::Axisymmetric;
   const bool strains = local || hoop || m.any_j2;
   // Softening needs the strains for its criteria even where the energy does not.
   if (strains || m.any_softening) compute_disk_strains(m);
+  if (criteria && !m.nonlocal.offset.empty()) compute_nonlocal_strains(m);
   if (m.any_j2) return_mapping(m);
   if (hoop && m.any_softening) update_hoop_damage(m);
   compute_bond_forces(m, dt, vx, vy, om);
@@ -846,12 +878,13 @@ void force_passes(Model& m, double dt, const double* vx, const double* vy, const
 }  // namespace
 
 std::size_t compute_internal_forces(Model& m, double dt) {
-  force_passes(m, dt, m.vx.data(), m.vy.data(), m.omega.data());
+  force_passes(m, dt, m.vx.data(), m.vy.data(), m.omega.data(), true);
   return m.any_breakable ? settle_broken_bonds(m, dt) : 0;
 }
 
 void compute_probe_forces(Model& m) {
-  force_passes(m, 1.0, m.ux.data(), m.uy.data(), m.theta.data());
+  // The probe checks no criterion: its nonlocal strains are not updated.
+  force_passes(m, 1.0, m.ux.data(), m.uy.data(), m.theta.data(), false);
   // The probe is the linear operator: no bond breaks in it (it is far below any strength,
   // and a break would not be linear).
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);

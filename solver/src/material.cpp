@@ -138,6 +138,10 @@ std::optional<MaterialIssue> Material::check() const {
     if (plastic()) return issue("fracture_energy", "softening and plasticity in one material are not supported", fracture_energy);
   }
   if (!(radial_cracks >= 1.0 && radial_cracks <= 1e6)) return issue("radial_cracks", "must lie in [1, 1e6]", radial_cracks);
+  if (!(nonlocal_radius >= 0.0) || !std::isfinite(nonlocal_radius))
+    return issue("nonlocal_radius", "must be >= 0 [m]", nonlocal_radius);
+  if (nonlocal_radius > 0 && !(fracture_energy > 0))
+    return issue("nonlocal_radius", "averages the softening criteria: it needs a fracture_energy", nonlocal_radius);
   if (isotropic) {
     if (!(E > 0.0) || !std::isfinite(E)) return issue("E", "must be > 0 [Pa]", E);
     if (!(nu > -1.0 && nu < 0.5)) return issue("nu", "must lie in (-1, 0.5)", nu);

@@ -42,6 +42,7 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   // lattice keeps its names and sets, and the arrays only the build needs are released.
   model_ = build_model(std::move(lattice_), case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;
+  setup_nonlocal_strain();
   for (auto* v : {&lattice_.x, &lattice_.y, &lattice_.radius, &lattice_.cell_area, &lattice_.cell_cx, &lattice_.cell_cy,
                   &lattice_.bond_b})
     std::vector<double>().swap(*v);
@@ -73,6 +74,27 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   setup_contact_resolution();
   setup_energy_scale();
   lap(setup_times_.energy_scale);
+}
+
+void Solver::setup_nonlocal_strain() {
+  // [[material]] nonlocal_radius: the softening criteria read strains averaged over R.
+  std::vector<double> radius(body_materials_.size(), 0.0);
+  bool any = false;
+  for (std::size_t b = 0; b < body_materials_.size(); ++b) {
+    const Material& mat = *body_materials_[b].material;
+    if (!(mat.nonlocal_radius > 0) || !(mat.fracture_energy > 0) || !mat.breakable) continue;
+    const double r = case_.outline.bodies[b].radius.value_or(0.0);
+    // The nearest neighbours are 2r apart: a radius at or below that averages a disk alone.
+    if (!(mat.nonlocal_radius > 2 * r * (1 + 1e-9)))
+      throw InputError(case_.source + ": [[material]] '" + mat.name + "': nonlocal_radius = " +
+                       fmt(mat.nonlocal_radius, 6) + " m is not larger than the spacing 2r = " + fmt(2 * r, 6) +
+                       " m of body '" + case_.outline.bodies[b].name +
+                       "': the average would hold each disk alone; use a radius of several spacings (docs/model.md, "
+                       "\"Nonlocal criterion\")");
+    radius[b] = mat.nonlocal_radius;
+    any = true;
+  }
+  if (any) build_nonlocal_strain(model_, radius);
 }
 
 void Solver::refuse_unless_allowed(const std::string& message, const std::string& remedy) {

@@ -1,14 +1,17 @@
 # Virtual material tests (cases/material_tests/) over the lattice angles 0, 10, 20, 30 degrees.
-# Asserted: every run completes with max |energy error| <= 1 %; the tensile strength lies
-# within 5 % of its mean over the angles, and the tension runs meet all of analyse.py's own
-# checks (post-peak drop, quasi-static loading). Printed, not asserted (their targets are not
-# met by this build, docs/validation.md): the compressive and splitting strengths' spread, the
-# Brazilian crack's distance from the loaded diameter, the notched beam's work of fracture.
+# Asserted: every run completes with max |energy error| <= 1 %; the tensile and the split
+# strengths lie within 5 % of their means over the angles, and the tension and Brazilian runs
+# meet all of analyse.py's own checks (tension: post-peak drop, quasi-static loading; Brazilian:
+# the crack along the loaded diameter within 2r). Printed, not asserted (their targets are not
+# met by this build, docs/validation.md): the compressive strength's spread and the notched
+# beam's work of fracture.
 # The notched beam runs at r = 4 mm (its coarsest member) at angle 0.
 if(NOT HEXDEM_SANITIZE)
   foreach(kind tension compression brazilian)
     if(kind STREQUAL "tension")
       set(extra --check peak_stress_MPa=5 --strict)
+    elseif(kind STREQUAL "brazilian")
+      set(extra --check split_strength_MPa=5 --strict)
     else()
       set(extra "")
     endif()

@@ -78,6 +78,9 @@ struct Material {
   /// Axisymmetric softening: the number of radial cracks that hoop tension opens, which sets
   /// the hoop crack band 2 pi b / n of a ring at radius b [-].
   double radial_cracks = 6;
+  /// Softening: the radius R [m] over which the criteria average the disks' strains
+  /// (docs/model.md, "Nonlocal criterion"); 0: each bond reads its own two disks.
+  double nonlocal_radius = 0;
 
   double friction = 0.5;  ///< Coulomb friction coefficient of contacts [-]
 

@@ -110,6 +110,20 @@ struct LocalStrain {
   std::vector<double> w_xx, w_xy, w_yx, w_yy;  ///< W = S M^-1, S = dE/d(eps) [N/m]
 };
 
+/// Nonlocal strain of the softening criteria (docs/model.md, "Nonlocal criterion"): each
+/// disk's strain averaged over the disks of its body with a full neighbourhood within the
+/// `nonlocal_radius` R of its material, in the reference configuration, with the weight
+/// (1 - d^2/R^2)^2. Empty unless some material has a radius; a disk of a body without one
+/// averages over itself alone (its local strain).
+struct NonlocalStrain {
+  double radius = 0;                  ///< the largest R [m]
+  std::vector<std::uint32_t> offset;  ///< per disk + 1: its row of nbr and w
+  std::vector<std::int32_t> nbr;      ///< the disks averaged over, in index order
+  std::vector<double> w;              ///< their weights, summing to 1 per row [-]
+  std::vector<double> eps_xx, eps_yy, eps_xy;  ///< the averaged in-plane strain [-]
+  std::vector<double> eps_tt;                  ///< axisymmetric: the averaged hoop strain [-]
+};
+
 /// The crack state of softening bonds (docs/model.md, "Fracture energy and softening"), per
 /// bond; allocated only when some material has a fracture energy.
 struct BondCracks {
@@ -179,6 +193,7 @@ struct Model {
   /// strain arrays (strain, u_s, g, adj_other) exist only then.
   bool uses_strains = false;
   LocalStrain strain;
+  NonlocalStrain nonlocal;
   OutOfPlane hoop;
   std::vector<double> vx_old, vy_old, omega_old;  ///< velocities at t - 3dt/2 after a step
 
@@ -395,6 +410,9 @@ void mark_broken(Model& m, std::size_t b, BondState s);
 /// (settle_broken_bonds): the returned forces are those without them. Returns the number of
 /// bonds that broke.
 std::size_t compute_internal_forces(Model& m, double dt);
+/// Builds Model::nonlocal with the averaging radius R [m] of each body (0: none), after the
+/// strain fits (nonlocal.cpp).
+void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius);
 
 /// The same forces for the critical-step estimate (Solver::finite_omega2_max), on a state
 /// whose bonds' history has just been reset: the rotation model's shear increments are the

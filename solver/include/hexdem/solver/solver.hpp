@@ -205,6 +205,7 @@ private:
   /// records it as a warning and goes on.
   void refuse_unless_allowed(const std::string& message, const std::string& remedy);
   void setup_materials();
+  void setup_nonlocal_strain();
   void setup_boundaries();
   void setup_mirror_springs(const BoundaryCondition& bc, int set);
   void setup_loads();

@@ -1,0 +1,202 @@
+// The nonlocal criterion of softening materials ([[material]] nonlocal_radius; docs/model.md,
+// "Nonlocal criterion"): the averaging rows against a brute-force search, the average of
+// affine and linear strain fields against their closed forms, the refusals, and a restart.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "hexdem/error.hpp"
+#include "hexdem/solver/case_toml.hpp"
+#include "hexdem/solver/checkpoint.hpp"
+#include "hexdem/solver/solver.hpp"
+
+namespace {
+
+using namespace hexdem;
+using namespace hexdem::solver;
+
+/// A 60 x 40 mm plate of softening concrete (r = 1 mm, the lattice at `angle`) and, apart
+/// from it, a 10 mm steel block that does not average (a body of its own). Plane stress.
+std::string plate_case(double angle, const std::string& nonlocal) {
+  std::ostringstream s;
+  s << "units = \"mm\"\n[case]\nname = \"plate\"\ngeometry = \"plane-stress\"\nthickness = 0.01\n"
+    << "[mesh]\nradius = 1e-3\nangle = " << angle << "\n"
+    << "[[body]]\nname = \"plate\"\nmaterial = 1\n  [[body.shape]]\n  type = \"rectangle\"\n"
+    << "  min = [0.0, 0.0]\n  max = [60.0, 40.0]\n  boundary = { bottom = \"base\" }\n"
+    << "[[body]]\nname = \"block\"\nmaterial = 2\n  [[body.shape]]\n  type = \"rectangle\"\n"
+    << "  min = [64.0, 0.0]\n  max = [74.0, 10.0]\n"
+    << "[[material]]\nid = 1\nname = \"concrete\"\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
+    << "tensile_strength = 3e6\ncompressive_strength = 30e6\ncohesion = 8.66e6\nfriction_angle = 30.0\n"
+    << "fracture_energy = 100.0\nrate_dependent = false\n" << nonlocal << "\n"
+    << "[[material]]\nid = 2\nname = \"steel\"\ndensity = 7800.0\nE = 200e9\nnu = 0.3\n"
+    << "[[boundary]]\nset = \"base\"\ntype = \"roller\"\ncomponent = \"y\"\n"
+    << "[contact]\ndamping = 0.1\n[time]\nend = 2e-5\n[output]\ninterval = 1e-5\n";
+  return s.str();
+}
+
+bool full(const Model& m, std::size_t j) { return m.strain.ok[j] && m.initial_bonds(j) == 6; }
+
+TEST(NonlocalStrain, RowsHoldExactlyTheFullDisksOfTheBodyWithinTheRadius) {
+  for (double angle : {0.0, 17.0}) {
+    const Case c = parse_case(plate_case(angle, "nonlocal_radius = 3.5e-3"), "plate.toml", ".");
+    Solver s(c, mesh_case(c));
+    const Model& m = s.model();
+    const NonlocalStrain& nl = m.nonlocal;
+    ASSERT_EQ(nl.offset.size(), m.num_disks() + 1);
+    const double R = 3.5e-3;
+    std::size_t interior = 0, interior_count = 0;
+    for (std::size_t i = 0; i < m.num_disks(); ++i) {
+      std::vector<std::int32_t> expected;  // brute force over every disk
+      if (m.body[i] == 0) {
+        for (std::size_t j = 0; j < m.num_disks(); ++j) {
+          const double d = std::hypot(m.x0[j] - m.x0[i], m.y0[j] - m.y0[i]);
+          if (m.body[j] == m.body[i] && full(m, j) && d < R) expected.push_back(static_cast<std::int32_t>(j));
+        }
+      } else if (full(m, i)) {
+        expected.push_back(static_cast<std::int32_t>(i));  // the block reads its own strain
+      }
+      const std::vector<std::int32_t> row(nl.nbr.begin() + nl.offset[i], nl.nbr.begin() + nl.offset[i + 1]);
+      ASSERT_EQ(row, expected) << "disk " << i << " at angle " << angle;
+      double sum = 0;
+      for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        EXPECT_GT(nl.w[k], 0.0);
+        sum += nl.w[k];
+      }
+      if (!row.empty()) {
+        EXPECT_NEAR(sum, 1.0, 1e-14) << i;
+      }
+      // Far from the edges: the hexagonal lattice's disks within 3.5 r are the centre and
+      // its rings at 2r (6), 2 sqrt(3) r (6): 13.
+      const double x = m.x0[i] * 1e3, y = m.y0[i] * 1e3;
+      if (m.body[i] == 0 && x > 8 && x < 52 && y > 8 && y < 32) {
+        ++interior;
+        interior_count += row.size();
+        EXPECT_EQ(row.size(), 13u) << "disk " << i << " at angle " << angle;
+      }
+    }
+    EXPECT_GT(interior, 100u);
+    std::printf("angle %4.1f: %zu interior disks, %zu neighbours each\n", angle, interior,
+                interior ? interior_count / interior : 0);
+  }
+}
+
+TEST(NonlocalStrain, AveragesAnAffineFieldExactlyAndALinearStrainToItsCentreValue) {
+  const Case c = parse_case(plate_case(23.0, "nonlocal_radius = 5e-3"), "plate.toml", ".");
+  Solver s(c, mesh_case(c));
+  Model m = s.model();
+  // u = E x with E = (2, -1, 0.7) x 1e-7: the fits and so the averages are exactly E.
+  const double exx = 2e-7, eyy = -1e-7, exy = 0.7e-7;
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    m.ux[i] = exx * m.x0[i] + exy * m.y0[i];
+    m.uy[i] = exy * m.x0[i] + eyy * m.y0[i];
+  }
+  compute_internal_forces(m, 1e-8);
+  double worst = 0;
+  std::size_t rows = 0;
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    if (m.body[i] != 0 || m.nonlocal.offset[i + 1] == m.nonlocal.offset[i]) continue;
+    ++rows;
+    worst = std::max({worst, std::abs(m.nonlocal.eps_xx[i] - exx), std::abs(m.nonlocal.eps_yy[i] - eyy),
+                      std::abs(m.nonlocal.eps_xy[i] - exy)});
+  }
+  EXPECT_GT(rows, 600u);
+  EXPECT_LT(worst, 1e-12 * 2e-7 * 1e3) << "affine field";
+  // u_x = k x^2 / 2: eps_xx = k x, linear. The weights depend on distance only and a full
+  // row around an interior disk is centrosymmetric, so the average is the centre's k x_i.
+  const double k = 1e-5;  // [1/m]
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    m.ux[i] = 0.5 * k * m.x0[i] * m.x0[i];
+    m.uy[i] = 0;
+  }
+  compute_internal_forces(m, 1e-8);
+  worst = 0;
+  std::size_t interior = 0;
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    const double x = m.x0[i] * 1e3, y = m.y0[i] * 1e3;
+    if (m.body[i] != 0 || x < 8 || x > 52 || y < 8 || y > 32) continue;
+    ++interior;
+    worst = std::max(worst, std::abs(m.nonlocal.eps_xx[i] - k * m.x0[i]));
+  }
+  EXPECT_GT(interior, 250u);
+  EXPECT_LT(worst, 1e-9 * k * 0.06) << "linear strain";
+}
+
+TEST(NonlocalStrain, BadRadiiAreRefused) {
+  const auto refused = [](const std::string& key, const std::string& needle) {
+    try {
+      const Case c = parse_case(plate_case(0.0, key), "plate.toml", ".");
+      Solver s(c, mesh_case(c));
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(needle), std::string::npos) << what;
+      return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused("nonlocal_radius = -1e-3", "nonlocal_radius"));
+  EXPECT_TRUE(refused("nonlocal_radius = 2e-3", "not larger than the spacing 2r"));  // the neighbours' distance
+  EXPECT_TRUE(refused("nonlocal_radius = 1e-3", "not larger than the spacing 2r"));
+  // Only a softening material averages its criteria.
+  EXPECT_THROW((void)parse_case(plate_case(0.0, "nonlocal_radius = 4e-3").replace(
+                                    plate_case(0.0, "nonlocal_radius = 4e-3").find("fracture_energy = 100.0"),
+                                    std::string("fracture_energy = 100.0").size(), "fracture_energy = 0.0"),
+                                "plate.toml", "."),
+               InputError);
+  // A radius of 0 is the local criterion: no rows are built.
+  const Case c = parse_case(plate_case(0.0, "nonlocal_radius = 0.0"), "plate.toml", ".");
+  Solver s(c, mesh_case(c));
+  EXPECT_TRUE(s.model().nonlocal.offset.empty());
+}
+
+TEST(NonlocalStrain, ARunRestartsBitIdentically) {
+  // The plate pulled apart at its top: cracks start by the nonlocal criterion; a checkpoint
+  // written mid-way continues to the same bits (the rows are rebuilt from the case, the
+  // averages from the strains).
+  std::string text = plate_case(11.0, "nonlocal_radius = 4e-3");
+  const std::string sets = "boundary = { bottom = \"base\" }";
+  text.replace(text.find(sets), sets.size(), "boundary = { bottom = \"base\", top = \"grip\" }");
+  text += "[[boundary]]\nset = \"grip\"\ntype = \"velocity\"\nvy = 2.0\n";
+  const Case c = parse_case(text, "plate.toml", ".");
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  std::size_t cracking = 0;
+  for (int k = 0; k < 400 && cracking == 0; ++k) {
+    ASSERT_TRUE(a.advance(k % 7 == 0));
+    cracking = static_cast<std::size_t>(std::count(a.model().cracks.cracking.begin(), a.model().cracks.cracking.end(), 1));
+  }
+  ASSERT_GT(cracking, 0u) << "no crack started";
+  namespace fs = std::filesystem;
+  const fs::path d = fs::temp_directory_path() / ("hexdem_test_nonlocal_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  RunState run;
+  write_checkpoint((d / "a.chk").string(), a, run);
+  Solver b(c, lattice);
+  RunState back;
+  read_checkpoint((d / "a.chk").string(), b, back);
+  for (int k = 0; k < 60; ++k) {
+    ASSERT_TRUE(a.advance(k % 7 == 0));
+    ASSERT_TRUE(b.advance(k % 7 == 0));
+  }
+  write_checkpoint((d / "a2.chk").string(), a, run);
+  write_checkpoint((d / "b2.chk").string(), b, run);
+  const auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  EXPECT_TRUE(slurp(d / "a2.chk") == slurp(d / "b2.chk")) << "the continuation differs";
+  EXPECT_EQ(a.energy().total(), b.energy().total());
+  fs::remove_all(d);
+}
+
+}  // namespace
