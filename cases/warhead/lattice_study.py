@@ -4,12 +4,13 @@
 
     /usr/bin/python3 cases/warhead/lattice_study.py HEXDEM OUT_DIR [--speeds 100 50]
         [--angles 0 10 20 30] [--radii 0.5e-3 0.35e-3] [--seeds 1] [--threads 2]
-        [--json FILE] [--reduced]
+        [--json FILE] [--reduced] [--set KEY=VALUE ...]
 
 Runs every member (speed x angle x radius x seed) with `hexdem run` and `--set` overrides of
 the shipped case files (case.toml at 100 m/s, case_50.toml at 50 m/s, case_25.toml at 25 m/s;
 with --reduced, case_ctest.toml at 100 m/s: r = 1 mm, 150 us, the ctest's size):
-`mesh.angle` (both bodies), `mesh.radius` and `random.seed`. The disc's rim is put at the first
+`mesh.angle` (both bodies), `mesh.radius` and `random.seed`, and any `--set KEY=VALUE` given
+here for every member (e.g. `--set material.concrete.nonlocal_radius=4e-3`). The disc's rim is put at the first
 of 200, 200.2, ..., 201.4 mm at which `hexdem check` accepts the member, so that the clamped
 rim set selects disks of a rotated lattice (a set that selects none is refused); the rim used
 is in the JSON (`rim_mm`). Each member is analysed by
