@@ -859,7 +859,8 @@ void Reader::read_materials(const toml::table& root, Case& c) const {
              value + " is available in plane strain and axisymmetry only, not in plane stress" +
                  (dp ? std::string() : std::string("; use \"spring\" or \"auto\"")) + " (got " + value + ")");
       if (per_disk && c.shear_model == ShearModel::Rotation)
-        fail(*p, where, value + " needs [case] shear_model = \"local-strain\" (got " + value + ")");
+        fail(*p, where,
+             value + " needs [case] shear_model = \"local-strain\", not \"rotation\" (got " + value + ")");
     }
 
     if (const auto problem = m.check())

@@ -555,6 +555,19 @@ TEST(CaseToml, OrthotropicInAxisymmetric) {
                 "supported in axisymmetric mode (give E and nu)");
 }
 
+TEST(CaseToml, DiskPlasticityNeedsTheLocalStrainModel) {
+  // The message names the shear model that conflicts, not only the plasticity's own value.
+  Parts parts;
+  parts.head = "[case]\ngeometry = \"plane-strain\"\nshear_model = \"rotation\"\n";
+  parts.materials =
+      "\n[[material]]\nid = 1\ndensity = 7800.0\nE = 210e9\nnu = 0.3\nyield_stress = 400e6\n"
+      "tangent_modulus = 2e9\nplasticity = \"j2\"\n";
+  const std::string text = parts.text();
+  EXPECT_EQ(parse_error(text), "case.toml:" + std::to_string(line_of(text, "plasticity")) +
+                                   ": material[0].plasticity: \"j2\" needs [case] shear_model = \"local-strain\", "
+                                   "not \"rotation\" (got \"j2\")");
+}
+
 TEST(CaseToml, ThicknessInAxisymmetric) {
   Parts parts;
   parts.head = "[case]\ngeometry = \"axisymmetric\"\nthickness = 0.01\n";
