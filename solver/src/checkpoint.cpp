@@ -73,6 +73,14 @@ void visit_model(M& m, V& v) {
   v.rebuilt("nonlocal_w", m.nonlocal.w);
   v.rebuilt("nonlocal_eps_xx", m.nonlocal.eps_xx); v.rebuilt("nonlocal_eps_yy", m.nonlocal.eps_yy);
   v.rebuilt("nonlocal_eps_xy", m.nonlocal.eps_xy); v.rebuilt("nonlocal_eps_tt", m.nonlocal.eps_tt);
+  v.rebuilt("nonlocal_skip_far", m.nonlocal.skip_far);
+  v.rebuilt("nonlocal_cells_x", m.nonlocal.cells_x); v.rebuilt("nonlocal_cells_y", m.nonlocal.cells_y);
+  v.rebuilt("nonlocal_x_min", m.nonlocal.x_min); v.rebuilt("nonlocal_y_min", m.nonlocal.y_min);
+  v.rebuilt("nonlocal_cell", m.nonlocal.cell);
+  v.rebuilt("nonlocal_body_inv_ft", m.nonlocal.body_inv_ft); v.rebuilt("nonlocal_body_inv_fc", m.nonlocal.body_inv_fc);
+  v.rebuilt("nonlocal_body_inv_mc", m.nonlocal.body_inv_mc);
+  v.rebuilt("nonlocal_relative", m.nonlocal.relative); v.rebuilt("nonlocal_cell_max", m.nonlocal.cell_max);
+  v.rebuilt("nonlocal_hot", m.nonlocal.hot);
   v.state("hoop_lambda", m.hoop.lambda); v.state("hoop_mu", m.hoop.mu);
   v.state("nu_zz", m.hoop.nu_zz);
   v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);

@@ -77,15 +77,71 @@ inline double hoop_strain(const Model& m, std::size_t i) {
   return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.disk_weight(i) : 0.0;
 }
 
-/// The nonlocal strains (Model::nonlocal): each disk's weighted mean of its neighbours'.
+/// The nonlocal strains (Model::nonlocal), where a criterion can be near: first each averaged
+/// disk's largest criterion relative to its body's smallest thresholds, the cells' maxima and
+/// the hot cells (NonlocalStrain::hot), then each disk's weighted mean of its neighbours'
+/// strains where a hot cell is in its block.
 void compute_nonlocal_strains(Model& m) {
   NonlocalStrain& nl = m.nonlocal;
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  const bool axisym = m.geometry == Geometry::Axisymmetric;
+  const bool axisym = m.geometry == Geometry::Axisymmetric, plane_stress = m.geometry == Geometry::PlaneStress;
+  constexpr double kAlways = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    double g = 0;  // not in any average
+    if (nl.offset[iu + 1] > nl.offset[iu] && m.strain.ok[iu] && m.initial_bonds(iu) == 6) {
+      const auto body = static_cast<std::size_t>(m.body[iu]);
+      const std::int32_t l = m.body_failure_law[body];
+      if (nl.body_inv_ft[body] > 0 && l >= 0) {
+        // The criteria of softening_bond at the disk's own strain (convex in the stress).
+        const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
+        const double exx = m.strain.eps_xx[iu], eyy = m.strain.eps_yy[iu], exy = m.strain.eps_xy[iu];
+        const double tr = exx + eyy, ett = axisym ? hoop_strain(m, iu) : 0.0;
+        const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
+        const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
+        const double s3 = plane_stress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
+        const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
+        const double s_max = std::max(p.s1, s3), s_min = std::min(p.s2, s3);
+        const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * sp.mc.sin_phi;
+        g = std::max({p.s1 * nl.body_inv_ft[body], -s_min * nl.body_inv_fc[body], shear * nl.body_inv_mc[body]});
+        if (!(g == g)) g = kAlways;  // NaN: let the exact test see it
+      } else {
+        g = kAlways;  // no bound for this body: always checked
+      }
+    }
+    nl.relative[iu] = g;
+  }
+  std::fill(nl.cell_max.begin(), nl.cell_max.end(), 0.0);
+  for (std::ptrdiff_t i = 0; i < n; ++i) {  // maxima: the same in any order
+    double& c = nl.cell_max[static_cast<std::size_t>(nl.cell[static_cast<std::size_t>(i)])];
+    c = std::max(c, nl.relative[static_cast<std::size_t>(i)]);
+  }
+  // Hot: the 3 x 3 block reaches 1 (less a margin far above the rounding of the averages).
+  const std::int64_t cx = nl.cells_x, cy = nl.cells_y;
+  const auto block = [&](std::int64_t x, std::int64_t y, auto&& visit) {
+    for (std::int64_t v = std::max<std::int64_t>(y - 1, 0); v <= std::min(y + 1, cy - 1); ++v)
+      for (std::int64_t u = std::max<std::int64_t>(x - 1, 0); u <= std::min(x + 1, cx - 1); ++u)
+        visit(static_cast<std::size_t>(v * cx + u));
+  };
+  for (std::int64_t y = 0; y < cy; ++y)
+    for (std::int64_t x = 0; x < cx; ++x) {
+      double g = 0;
+      block(x, y, [&](std::size_t c) { g = std::max(g, nl.cell_max[c]); });
+      nl.hot[static_cast<std::size_t>(y * cx + x)] = (g >= 1 - 1e-6 || !nl.skip_far) ? 1 : 0;
+    }
+  for (std::int64_t y = 0; y < cy; ++y)
+    for (std::int64_t x = 0; x < cx; ++x) {
+      bool near = false;
+      block(x, y, [&](std::size_t c) { near = near || (nl.hot[c] & 1) != 0; });
+      if (near) nl.hot[static_cast<std::size_t>(y * cx + x)] |= 2;
+    }
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    if ((nl.hot[static_cast<std::size_t>(nl.cell[iu])] & 2) == 0) continue;  // no bond of it is checked
     double exx = 0, eyy = 0, exy = 0, ett = 0;
-    for (std::uint32_t k = nl.offset[static_cast<std::size_t>(i)]; k < nl.offset[static_cast<std::size_t>(i) + 1]; ++k) {
+    for (std::uint32_t k = nl.offset[iu]; k < nl.offset[iu + 1]; ++k) {
       const auto j = static_cast<std::size_t>(nl.nbr[k]);
       const double w = nl.w[k];
       exx += w * m.strain.eps_xx[j];
@@ -93,10 +149,10 @@ void compute_nonlocal_strains(Model& m) {
       exy += w * m.strain.eps_xy[j];
       if (axisym) ett += w * hoop_strain(m, j);
     }
-    nl.eps_xx[static_cast<std::size_t>(i)] = exx;
-    nl.eps_yy[static_cast<std::size_t>(i)] = eyy;
-    nl.eps_xy[static_cast<std::size_t>(i)] = exy;
-    if (axisym) nl.eps_tt[static_cast<std::size_t>(i)] = ett;
+    nl.eps_xx[iu] = exx;
+    nl.eps_yy[iu] = eyy;
+    nl.eps_xy[iu] = exy;
+    if (axisym) nl.eps_tt[iu] = ett;
   }
 }
 
@@ -480,6 +536,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     }
     return;
   }
+  // Nonlocal: a bond far from every criterion is not checked (NonlocalStrain::hot).
+  if (nonlocal && !m.nonlocal.disk_hot(i) && !m.nonlocal.disk_hot(j)) return;
   // The continuum stress at the midpoint: C : (eps_i + eps_j) / 2 (with the hoop strain).
   const double wi = full_i ? (full_j ? 0.5 : 1.0) : 0.0, wj = 1.0 - wi;
   const std::vector<double>& gxx = nonlocal ? m.nonlocal.eps_xx : m.strain.eps_xx;

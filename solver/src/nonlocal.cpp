@@ -5,6 +5,7 @@
 // regular meshes).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 
@@ -72,6 +73,47 @@ void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius) {
   nl.w.shrink_to_fit();
   for (auto* v : {&nl.eps_xx, &nl.eps_yy, &nl.eps_xy}) v->assign(n, 0.0);
   if (m.geometry == Geometry::Axisymmetric) nl.eps_tt.assign(n, 0.0);
+
+  // The bound's grid (NonlocalStrain::hot) over every disk's reference centre.
+  double xmax = xmin, ymax = ymin;
+  for (std::size_t i = 0; i < n; ++i) xmax = std::max(xmax, m.x0[i]), ymax = std::max(ymax, m.y0[i]);
+  nl.x_min = xmin;
+  nl.y_min = ymin;
+  nl.cells_x = static_cast<std::int64_t>(std::floor((xmax - xmin) / r_max)) + 1;
+  nl.cells_y = static_cast<std::int64_t>(std::floor((ymax - ymin) / r_max)) + 1;
+  nl.cell.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [cx, cy] = cell(m.x0[i], m.y0[i]);
+    nl.cell[i] = static_cast<std::int32_t>(cy * nl.cells_x + cx);
+  }
+  nl.relative.assign(n, 0.0);
+  nl.cell_max.assign(static_cast<std::size_t>(nl.cells_x * nl.cells_y), 0.0);
+  nl.hot.assign(nl.cell_max.size(), 0);
+  // Per body, the reciprocals of its smallest static thresholds: the strengths of its
+  // softening law times the smallest random-field factor of its bonds (the rate factors only
+  // raise them). 0 where a threshold is not positive: such a body's disks are always hot.
+  const std::size_t bodies = body_radius.size();
+  std::vector<double> scale_min(bodies, std::numeric_limits<double>::infinity());
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    const auto body = static_cast<std::size_t>(m.body[static_cast<std::size_t>(m.bi[b])]);
+    scale_min[body] = std::min(scale_min[body], m.strength_factor(b));
+  }
+  nl.body_inv_ft.assign(bodies, 0.0);
+  nl.body_inv_fc.assign(bodies, 0.0);
+  nl.body_inv_mc.assign(bodies, 0.0);
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const std::int32_t l = m.body_failure_law[b];
+    if (!(body_radius[b] > 0) || l < 0) continue;
+    const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
+    const double s = std::isfinite(scale_min[b]) ? scale_min[b] : 1.0;
+    const double ft = m.failure_laws[static_cast<std::size_t>(l)].f_t * s, fc = sp.mc.f_c * s;
+    const double mc = sp.mc.c * sp.mc.cos_phi * s;
+    if (ft > 0 && fc > 0 && mc > 0) {
+      nl.body_inv_ft[b] = 1 / ft;
+      nl.body_inv_fc[b] = 1 / fc;
+      nl.body_inv_mc[b] = 1 / mc;
+    }
+  }
 }
 
 }  // namespace hexdem::solver

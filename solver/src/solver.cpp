@@ -42,7 +42,6 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   // lattice keeps its names and sets, and the arrays only the build needs are released.
   model_ = build_model(std::move(lattice_), case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;
-  setup_nonlocal_strain();
   for (auto* v : {&lattice_.x, &lattice_.y, &lattice_.radius, &lattice_.cell_area, &lattice_.cell_cx, &lattice_.cell_cy,
                   &lattice_.bond_b})
     std::vector<double>().swap(*v);
@@ -61,6 +60,8 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
     if (!model_.hoop_cracks.damage.empty())
       model_.disk_strength_scale = lognormal_field(model_.x0, model_.y0, r.seed, r.correlation_length, r.strength_cov);
   }
+  // After the random field: the nonlocal bound reads the smallest strength factor.
+  setup_nonlocal_strain();
   lap(setup_times_.random_field);
   setup_boundaries();
   setup_loads();

@@ -122,6 +122,22 @@ struct NonlocalStrain {
   std::vector<double> w;              ///< their weights, summing to 1 per row [-]
   std::vector<double> eps_xx, eps_yy, eps_xy;  ///< the averaged in-plane strain [-]
   std::vector<double> eps_tt;                  ///< axisymmetric: the averaged hoop strain [-]
+  /// Where no criterion can be near, the average is not needed: each criterion is convex in
+  /// the stress, so at an average it is at most the largest value it takes at the averaged
+  /// disks. Cells of size `radius` hold the largest of each disk's criteria, relative to its
+  /// material's static strengths times the body's smallest random-field factor; a bond is
+  /// checked only if the block of 3 x 3 cells around one of its disks reaches 1 (`hot`), and
+  /// averages are computed only for disks next to a hot cell (the same bits as averaging
+  /// everywhere: the skipped bonds cannot fail).
+  bool skip_far = true;                        ///< false: average and check everywhere (tests)
+  std::int64_t cells_x = 0, cells_y = 0;
+  double x_min = 0, y_min = 0;                 ///< the grid's corner [m]
+  std::vector<std::int32_t> cell;              ///< per disk: its cell
+  std::vector<double> body_inv_ft, body_inv_fc, body_inv_mc;  ///< per body: 1 / the smallest thresholds [1/Pa] (0: no bound)
+  std::vector<double> relative;                ///< per disk: its largest relative criterion [-] (work space)
+  std::vector<double> cell_max;                ///< per cell: the largest relative criterion [-]
+  std::vector<std::uint8_t> hot;               ///< per cell: bit 0, its 3 x 3 block reaches 1; bit 1, a hot cell is in its block
+  [[nodiscard]] bool disk_hot(std::size_t i) const { return (hot[static_cast<std::size_t>(cell[i])] & 1) != 0; }
 };
 
 /// The crack state of softening bonds (docs/model.md, "Fracture energy and softening"), per
