@@ -79,7 +79,8 @@ void visit_model(M& m, V& v) {
   v.rebuilt("nonlocal_cell", m.nonlocal.cell);
   v.rebuilt("nonlocal_body_inv_ft", m.nonlocal.body_inv_ft); v.rebuilt("nonlocal_body_inv_fc", m.nonlocal.body_inv_fc);
   v.rebuilt("nonlocal_body_inv_mc", m.nonlocal.body_inv_mc);
-  v.rebuilt("nonlocal_relative", m.nonlocal.relative); v.rebuilt("nonlocal_cell_max", m.nonlocal.cell_max);
+  v.rebuilt("nonlocal_relative", m.nonlocal.relative); v.rebuilt("nonlocal_packed", m.nonlocal.packed);
+  v.rebuilt("nonlocal_cell_max", m.nonlocal.cell_max);
   v.rebuilt("nonlocal_hot", m.nonlocal.hot);
   v.state("hoop_lambda", m.hoop.lambda); v.state("hoop_mu", m.hoop.mu);
   v.state("nu_zz", m.hoop.nu_zz);

@@ -101,16 +101,26 @@ void compute_nonlocal_strains(Model& m) {
         const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
         const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
         const double s3 = plane_stress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
-        const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
-        const double s_max = std::max(p.s1, s3), s_min = std::min(p.s2, s3);
+        // The in-plane principal values bracketed by one square root, wider than its rounding
+        // (an upper bound of each criterion is as good a bound as the criterion itself).
+        const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+        const double r = std::sqrt(d * d + sxy * sxy) * (1 + 1e-12);
+        const double s1 = c + r, s2 = c - r;
+        const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
         const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * sp.mc.sin_phi;
-        g = std::max({p.s1 * nl.body_inv_ft[body], -s_min * nl.body_inv_fc[body], shear * nl.body_inv_mc[body]});
+        g = std::max({s1 * nl.body_inv_ft[body], -s_min * nl.body_inv_fc[body], shear * nl.body_inv_mc[body]});
         if (!(g == g)) g = kAlways;  // NaN: let the exact test see it
       } else {
         g = kAlways;  // no bound for this body: always checked
       }
     }
     nl.relative[iu] = g;
+    // The strain packed per disk for the averages' gather (one cache line per row entry).
+    double* e = nl.packed.data() + 4 * iu;
+    e[0] = m.strain.eps_xx[iu];
+    e[1] = m.strain.eps_yy[iu];
+    e[2] = m.strain.eps_xy[iu];
+    e[3] = axisym ? hoop_strain(m, iu) : 0.0;  // once per disk, not per row entry
   }
   std::fill(nl.cell_max.begin(), nl.cell_max.end(), 0.0);
   for (std::ptrdiff_t i = 0; i < n; ++i) {  // maxima: the same in any order
@@ -142,12 +152,12 @@ void compute_nonlocal_strains(Model& m) {
     if ((nl.hot[static_cast<std::size_t>(nl.cell[iu])] & 2) == 0) continue;  // no bond of it is checked
     double exx = 0, eyy = 0, exy = 0, ett = 0;
     for (std::uint32_t k = nl.offset[iu]; k < nl.offset[iu + 1]; ++k) {
-      const auto j = static_cast<std::size_t>(nl.nbr[k]);
+      const double* e = nl.packed.data() + 4 * static_cast<std::size_t>(nl.nbr[k]);
       const double w = nl.w[k];
-      exx += w * m.strain.eps_xx[j];
-      eyy += w * m.strain.eps_yy[j];
-      exy += w * m.strain.eps_xy[j];
-      if (axisym) ett += w * hoop_strain(m, j);
+      exx += w * e[0];
+      eyy += w * e[1];
+      exy += w * e[2];
+      if (axisym) ett += w * e[3];
     }
     nl.eps_xx[iu] = exx;
     nl.eps_yy[iu] = eyy;

@@ -87,6 +87,7 @@ void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius) {
     nl.cell[i] = static_cast<std::int32_t>(cy * nl.cells_x + cx);
   }
   nl.relative.assign(n, 0.0);
+  nl.packed.assign(4 * n, 0.0);
   nl.cell_max.assign(static_cast<std::size_t>(nl.cells_x * nl.cells_y), 0.0);
   nl.hot.assign(nl.cell_max.size(), 0);
   // Per body, the reciprocals of its smallest static thresholds: the strengths of its

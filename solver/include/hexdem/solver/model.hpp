@@ -135,6 +135,7 @@ struct NonlocalStrain {
   std::vector<std::int32_t> cell;              ///< per disk: its cell
   std::vector<double> body_inv_ft, body_inv_fc, body_inv_mc;  ///< per body: 1 / the smallest thresholds [1/Pa] (0: no bound)
   std::vector<double> relative;                ///< per disk: its largest relative criterion [-] (work space)
+  std::vector<double> packed;                  ///< per disk: eps_xx, eps_yy, eps_xy and the hoop strain, packed for the averages [-] (work space)
   std::vector<double> cell_max;                ///< per cell: the largest relative criterion [-]
   std::vector<std::uint8_t> hot;               ///< per cell: bit 0, its 3 x 3 block reaches 1; bit 1, a hot cell is in its block
   [[nodiscard]] bool disk_hot(std::size_t i) const { return (hot[static_cast<std::size_t>(cell[i])] & 1) != 0; }
