@@ -68,14 +68,12 @@ void visit_model(M& m, V& v) {
   v.state("w_xx", m.strain.w_xx); v.state("w_xy", m.strain.w_xy); v.state("w_yx", m.strain.w_yx); v.state("w_yy", m.strain.w_yy);
   // The nonlocal criterion's rows (from the case and the reference lattice) and its averages
   // (recomputed from the strains before every use).
-  v.rebuilt("nonlocal_radius", m.nonlocal.radius);
   v.rebuilt("nonlocal_offset", m.nonlocal.offset); v.rebuilt("nonlocal_nbr", m.nonlocal.nbr);
   v.rebuilt("nonlocal_w", m.nonlocal.w);
   v.rebuilt("nonlocal_eps_xx", m.nonlocal.eps_xx); v.rebuilt("nonlocal_eps_yy", m.nonlocal.eps_yy);
   v.rebuilt("nonlocal_eps_xy", m.nonlocal.eps_xy); v.rebuilt("nonlocal_eps_tt", m.nonlocal.eps_tt);
   v.rebuilt("nonlocal_skip_far", m.nonlocal.skip_far);
   v.rebuilt("nonlocal_cells_x", m.nonlocal.cells_x); v.rebuilt("nonlocal_cells_y", m.nonlocal.cells_y);
-  v.rebuilt("nonlocal_x_min", m.nonlocal.x_min); v.rebuilt("nonlocal_y_min", m.nonlocal.y_min);
   v.rebuilt("nonlocal_cell", m.nonlocal.cell);
   v.rebuilt("nonlocal_body_inv_ft", m.nonlocal.body_inv_ft); v.rebuilt("nonlocal_body_inv_fc", m.nonlocal.body_inv_fc);
   v.rebuilt("nonlocal_body_inv_mc", m.nonlocal.body_inv_mc);

@@ -18,7 +18,6 @@ void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius) {
   nl = NonlocalStrain{};
   const double r_max = body_radius.empty() ? 0.0 : *std::max_element(body_radius.begin(), body_radius.end());
   if (!(r_max > 0)) return;
-  nl.radius = r_max;
   const std::size_t n = m.num_disks();
   // The disks whose strain enters an average: those with a full neighbourhood (six bonds in
   // the initial lattice and a fit), as for the local criterion (softening_bond).
@@ -77,8 +76,6 @@ void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius) {
   // The bound's grid (NonlocalStrain::hot) over every disk's reference centre.
   double xmax = xmin, ymax = ymin;
   for (std::size_t i = 0; i < n; ++i) xmax = std::max(xmax, m.x0[i]), ymax = std::max(ymax, m.y0[i]);
-  nl.x_min = xmin;
-  nl.y_min = ymin;
   nl.cells_x = static_cast<std::int64_t>(std::floor((xmax - xmin) / r_max)) + 1;
   nl.cells_y = static_cast<std::int64_t>(std::floor((ymax - ymin) / r_max)) + 1;
   nl.cell.assign(n, 0);

@@ -116,7 +116,6 @@ struct LocalStrain {
 /// (1 - d^2/R^2)^2. Empty unless some material has a radius; a disk of a body without one
 /// averages over itself alone (its local strain).
 struct NonlocalStrain {
-  double radius = 0;                  ///< the largest R [m]
   std::vector<std::uint32_t> offset;  ///< per disk + 1: its row of nbr and w
   std::vector<std::int32_t> nbr;      ///< the disks averaged over, in index order
   std::vector<double> w;              ///< their weights, summing to 1 per row [-]
@@ -131,7 +130,6 @@ struct NonlocalStrain {
   /// everywhere: the skipped bonds cannot fail).
   bool skip_far = true;                        ///< false: average and check everywhere (tests)
   std::int64_t cells_x = 0, cells_y = 0;
-  double x_min = 0, y_min = 0;                 ///< the grid's corner [m]
   std::vector<std::int32_t> cell;              ///< per disk: its cell
   std::vector<double> body_inv_ft, body_inv_fc, body_inv_mc;  ///< per body: 1 / the smallest thresholds [1/Pa] (0: no bound)
   std::vector<double> relative;                ///< per disk: its largest relative criterion [-] (work space)
