@@ -5,6 +5,7 @@
 set -euo pipefail
 
 # libopenmpi-dev: ParaView's CMake package checks MPI headers at configure time.
+# libdeflate-dev: the .vtu writer's zlib streams (zlib1g-dev: the readers and checks).
 # calculix-ccx: the finite-element reference of cases/narrow_plate (ctest case_narrow_plate_calculix).
 # paraview: the GUI the README opens results in; libqt5svg5: without it the GUI's toolbar icons
 # (SVG) are blank.
@@ -12,7 +13,7 @@ packages=(
   build-essential cmake ninja-build git pkg-config
   paraview paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth libqt5svg5
   libcgal-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev
+  libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev libdeflate-dev
   python3-ezdxf python3-matplotlib clang-format time calculix-ccx
 )
 

@@ -14,7 +14,7 @@
 #include "hexdem/io/vtu_writer.hpp"
 #include "hexdem/error.hpp"
 
-#include <zlib.h>
+#include <libdeflate.h>
 #include <unistd.h>
 
 #ifdef _OPENMP
@@ -173,47 +173,39 @@ Encoded from_source(const std::string& indent, const ArraySource& a) {
   return e;
 }
 
-/// Per-thread zlib compressors for one write.
+/// Per-thread zlib compressors for one write (libdeflate: zlib streams, as VTK's
+/// vtkZLibDataCompressor reads them, at two to three times zlib's speed for the same level).
 class Compressors {
 public:
-  Compressors(int count, int level) : streams_(static_cast<std::size_t>(count)) {
-    for (auto& s : streams_) {
-      std::memset(&s, 0, sizeof s);
-      if (deflateInit(&s, level) != Z_OK) {
+  Compressors(int count, int level) : compressors_(static_cast<std::size_t>(count), nullptr) {
+    for (auto& c : compressors_) {
+      c = libdeflate_alloc_compressor(level);
+      if (c == nullptr) {
         end();
-        throw std::runtime_error("zlib: deflateInit failed");
+        throw std::runtime_error("libdeflate: cannot allocate a compressor");
       }
-      ++initialized_;
     }
   }
   Compressors(const Compressors&) = delete;
   Compressors& operator=(const Compressors&) = delete;
   ~Compressors() { end(); }
 
-  [[nodiscard]] std::size_t bound(std::size_t n) {
-    return deflateBound(&streams_[0], static_cast<uLong>(n));
-  }
+  [[nodiscard]] std::size_t bound(std::size_t n) { return libdeflate_zlib_compress_bound(compressors_[0], n); }
 
   /// Compresses `n` bytes into `out` (capacity bound(n)); returns the size, or 0 on failure.
   std::size_t compress(int thread, const unsigned char* in, std::size_t n, unsigned char* out,
                        std::size_t capacity) {
-    z_stream& s = streams_[static_cast<std::size_t>(thread)];
-    if (deflateReset(&s) != Z_OK) return 0;
-    s.next_in = const_cast<unsigned char*>(in);
-    s.avail_in = static_cast<uInt>(n);
-    s.next_out = out;
-    s.avail_out = static_cast<uInt>(capacity);
-    if (deflate(&s, Z_FINISH) != Z_STREAM_END) return 0;
-    return capacity - s.avail_out;
+    return libdeflate_zlib_compress(compressors_[static_cast<std::size_t>(thread)], in, n, out, capacity);
   }
 
 private:
   void end() {
-    for (std::size_t i = 0; i < initialized_; ++i) deflateEnd(&streams_[i]);
-    initialized_ = 0;
+    for (auto& c : compressors_) {
+      if (c != nullptr) libdeflate_free_compressor(c);
+      c = nullptr;
+    }
   }
-  std::vector<z_stream> streams_;
-  std::size_t initialized_ = 0;
+  std::vector<libdeflate_compressor*> compressors_;
 };
 
 /// Encodes arrays into the appended section: fills batches of blocks serially (the callbacks

@@ -87,24 +87,36 @@ struct StressMohrCoulomb {
 
 /// Whether the continuum criteria can fire on the stress (sxx, syy, sxy) with out-of-plane
 /// principal stress s3 [Pa]: Rankine s1 > f_t and Mohr-Coulomb mc.mode(max(s1, s3),
-/// min(s2, s3), scale) (f_t already scaled; infinite: no tension check), with s1, s2
-/// bracketed by one square root instead of principal_values_2d's hypot (the softening pass's
-/// most expensive call). False only where the exact test is certain to find nothing: the
-/// bracket is wider than hypot's rounding by far (1e-12), so every state near a criterion
-/// takes the exact path and a filtered pass gives the same bits as an unfiltered one.
+/// min(s2, s3), scale) (f_t already scaled and > 0; infinite: no tension check). False only
+/// where the exact test is certain to find nothing, so a filtered pass gives the same bits as
+/// an unfiltered one. Each criterion grows with the Mohr radius R = hypot(d, sxy) at a fixed
+/// centre (s1 = c + R up, s2 = c - R down, and the Mohr-Coulomb function
+/// s_max (1 + sin phi) / 2 - s_min (1 - sin phi) / 2 with them), so it is checked at an upper
+/// bound of R in two brackets:
+///  - |d| + |sxy| (no square root; at most sqrt(2) R), with margins of 1e-9 of the stresses
+///    (skipped for a deviator below 1e-140 Pa, where subnormals lose that precision);
+///  - sqrt(d^2 + sxy^2) (1 + 1e-12), with margins of 1e-12.
+/// Both margins are far above the rounding of these few operations (1e-15), and the exact
+/// test (principal_values_2d's hypot) decides every state that passes both.
 [[nodiscard]] inline bool near_a_criterion(double sxx, double syy, double sxy, double s3, double f_t,
                                            const StressMohrCoulomb& mc, double scale) {
   const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+  // Whether the criteria can fire at Mohr radius r, with relative margin `rel`.
+  const auto can_fire = [&](double r, double rel) {
+    const double s1 = c + r, s2 = c - r;
+    if (s1 > f_t * (1 - rel)) return true;
+    const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
+    if (s_min <= -mc.f_c * scale * (1 - rel)) return true;
+    const double lhs = 0.5 * (s_max - s_min), rhs = mc.c * scale * mc.cos_phi - 0.5 * (s_max + s_min) * mc.sin_phi;
+    const double slack = rel * (std::abs(s_max) + std::abs(s_min) + std::abs(mc.c * scale));
+    return lhs >= rhs - slack;
+  };
+  const double r1 = std::abs(d) + std::abs(sxy);
+  if (!(r1 < 1e140) || !(std::abs(c) < 1e140)) return true;  // overflow: the exact test decides
+  if (r1 > 1e-140 && !can_fire(r1 * (1 + 1e-9), 1e-9)) return false;
   const double r2 = d * d + sxy * sxy;
-  if (!(r2 > 1e-280) || !(r2 < 1e280)) return true;  // under- or overflow: the exact test decides
-  const double r = std::sqrt(r2) * (1 + 1e-12);       // >= hypot(d, sxy)
-  const double s1 = c + r, s2 = c - r;
-  if (s1 > f_t) return true;
-  const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
-  if (s_min <= -mc.f_c * scale) return true;
-  const double lhs = 0.5 * (s_max - s_min), rhs = mc.c * scale * mc.cos_phi - 0.5 * (s_max + s_min) * mc.sin_phi;
-  const double slack = 1e-12 * (std::abs(s_max) + std::abs(s_min) + std::abs(mc.c * scale));
-  return lhs >= rhs - slack;
+  if (!(r2 > 1e-280)) return true;                   // underflow: the exact test decides
+  return can_fire(std::sqrt(r2) * (1 + 1e-12), 1e-12);  // >= hypot(d, sxy)
 }
 
 }  // namespace hexdem::laws
