@@ -200,7 +200,7 @@ def cone_fit(a, target, disc_disks, ejected):
 
 
 def analyse(hexdem, pvd):
-    require_completed(pvd, SCRIPT)
+    warning = require_completed(pvd, SCRIPT)  # a run that warned is analysed and marked
     stem = pvd[:-4] if pvd.endswith(".pvd") else pvd
     name = os.path.basename(stem)
     frames = read_pvd(pvd)
@@ -289,7 +289,7 @@ def analyse(hexdem, pvd):
     frame_depth = np.interp(frame_times, t, depth)
 
     return {
-        "case": name, "series": os.path.abspath(pvd),
+        "case": name, "series": os.path.abspath(pvd), "run_warning": warning or None,
         "impact_velocity_m_s": -v0, "end_time_s": float(t[-1]),
         "outcome": outcome, "residual_velocity_m_s": final_v,
         "max_penetration_depth_m": max_depth, "final_penetration_depth_m": float(depth[-1]),

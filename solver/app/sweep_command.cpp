@@ -360,13 +360,19 @@ int run_sweep(const SweepArgs& a) {
                 study.case_file.c_str(), a.jobs, out_dir.c_str());
 
   std::map<pid_t, std::size_t> running;
-  std::size_t next = 0, failed = 0;
+  // A member that exits 3 ran to its end with a run-health warning: it has its values, and
+  // the sweep reports it (exit 3 when no member failed).
+  std::size_t next = 0, failed = 0, warned = 0;
+  const auto tally = [&](int code) {
+    failed += code != 0 && code != kExitWarning;
+    warned += code == kExitWarning;
+  };
   if (a.collect) {
     // The members ran elsewhere (a job array): read their exit codes, -1 if not run.
     for (Member& m : members) {
       std::ifstream in(fs::path(m.folder) / "exit_code");
       if (!(in >> m.exit_code)) m.exit_code = -1;
-      failed += m.exit_code != 0;
+      tally(m.exit_code);
     }
     next = members.size();
   }
@@ -390,7 +396,7 @@ int run_sweep(const SweepArgs& a) {
     running.erase(it);
     m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
     std::ofstream(fs::path(m.folder) / "exit_code") << m.exit_code << "\n";
-    failed += m.exit_code != 0;
+    tally(m.exit_code);
     if (!a.quiet) {
       std::string what;
       for (const std::string& s : m.sets) what += (what.empty() ? "" : " ") + s;
@@ -428,10 +434,13 @@ int run_sweep(const SweepArgs& a) {
   }
   const std::string csv_path = (fs::path(out_dir) / (study.name + ".csv")).string();
   io::write_file_atomic(csv_path, csv);
-  if (!a.quiet)
-    std::printf("  %zu of %zu members ran to the end; table: %s\n", members.size() - failed, members.size(),
-                csv_path.c_str());
-  return failed == 0 ? kExitOk : kExitFailure;
+  if (!a.quiet) {
+    std::printf("  %zu of %zu members ran to the end", members.size() - failed, members.size());
+    if (warned > 0) std::printf(", %zu of them with a warning (exit code 3: see their run.log)", warned);
+    std::printf("; table: %s\n", csv_path.c_str());
+  }
+  if (failed > 0) return kExitFailure;
+  return warned == 0 ? kExitOk : kExitWarning;
 }
 
 }  // namespace

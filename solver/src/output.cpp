@@ -797,11 +797,14 @@ int run_case(const Case& c, const RunOptions& options) {
   }
   out.finish();
   write_run_summary(summary_path, run_summary(solver));
-  out.write_status("completed");
+  // A warning (the energy balance passed [time] energy_warning, perhaps before a restart) is
+  // carried by the status and the exit code: the series is complete, its numbers may be wrong.
+  const std::string& warning = solver.energy_warning();
+  out.write_status(warning.empty() ? std::string("completed") : "completed with warning: " + warning);
   if (!options.quiet) {
     const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
     std::printf("  done: %zu frames, max |energy error| %.3g\n", out.frames(), std::max(max_error, solver.max_energy_error()));
-    if (warned) std::printf("  warning: %s\n", solver.energy_warning().c_str());
+    if (!warning.empty()) std::printf("  warning: %s (exit code 3)\n", warning.c_str());
     const double step_seconds = wall - secs(wall0, wall_setup) - output_seconds;
     std::printf("  wall %.2f s: mesh %.2f s, set-up %.2f s, steps %.2f s, output %.2f s\n", wall,
                 secs(wall0, wall_mesh), secs(wall_mesh, wall_setup), step_seconds, output_seconds);
@@ -815,7 +818,7 @@ int run_case(const Case& c, const RunOptions& options) {
     if (!c.output.body_history.empty()) std::printf("  bodies: %s\n", out.bodies_path().c_str());
     if (!c.output.reactions.empty()) std::printf("  reactions: %s\n", out.reactions_path().c_str());
   }
-  return kExitOk;
+  return warning.empty() ? kExitOk : kExitWarning;
 }
 
 }  // namespace hexdem::solver

@@ -580,6 +580,35 @@ values = ["small", "large"]
   EXPECT_TRUE(fs::exists(d / "out" / "member-001" / "small.summary.csv"));
 }
 
+TEST(Sweep, AMemberThatWarnsKeepsItsRowAndTheSweepExitsThree) {
+  const fs::path d = test_dir("cli_workflow", true);
+  write(d, "plate.toml", plate_case("plane-stress"));
+  // The same plate twice: the default warning level, and one below the run's own round-off
+  // error (which is above 1e-15 of the input), so that the second run warns and exits 3.
+  const fs::path study = write(d, "warn.toml", R"([study]
+case = "plate.toml"
+combine = "list"
+set = ["output.checkpoint_interval=0"]
+[[parameter]]
+key = "time.energy_warning"
+values = [0.01, 1e-15]
+)");
+  const Result r = run_hexdem(d, "sweep " + study.string() + " --jobs 1 -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 3) << r.out << r.err;
+  EXPECT_NE(r.out.find("2 of 2 members ran to the end, 1 of them with a warning"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(d / "out" / "member-001" / "exit_code"), "0\n");
+  EXPECT_EQ(slurp(d / "out" / "member-002" / "exit_code"), "3\n");
+  EXPECT_EQ(slurp(d / "out" / "member-002" / "plate.status").rfind("completed with warning: energy error", 0), 0u)
+      << slurp(d / "out" / "member-002" / "plate.status");
+  const std::vector<std::string> rows = lines(slurp(d / "out" / "warn.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[2].rfind("2,1e-15,3,", 0), 0u) << rows[2];
+  EXPECT_GT(rows[2].size(), std::string("2,1e-15,3,").size() + 5) << "a member that warned has its values: " << rows[2];
+  // --collect reads the same exit codes.
+  const Result c = run_hexdem(d, "sweep " + study.string() + " --collect -q -o " + (d / "out").string());
+  EXPECT_EQ(c.code, 3) << c.err;
+}
+
 TEST(Sweep, BadStudiesAreRefusedBeforeAnythingRuns) {
   const fs::path d = test_dir("cli_workflow", true);
   write(d, "plate.toml", plate_case("plane-stress"));

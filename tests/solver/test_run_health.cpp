@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -21,6 +22,11 @@ namespace {
 using namespace hexdem;
 using namespace hexdem::solver;
 namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 /// The first reproducer: a 20 m/s steel disk on a concrete plate on a fixed base (plane
 /// strain, 2,504 disks). It used to break 77 % of the plate's bonds and end with an energy
@@ -349,6 +355,42 @@ TEST(RunHealth, HexdemRunRecordsTheStatusAndTheAnalysisRefusesAFailedSeries) {
   std::ifstream py(dir / "py.txt");
   const std::string msg((std::istreambuf_iterator<char>(py)), {});
   EXPECT_NE(msg.find("the run did not complete"), std::string::npos) << msg;
+  EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << msg;
+}
+
+TEST(RunHealth, ARunThatWarnsCompletesWithExitThreeAndTheStatusSaysSo) {
+  // The leaky impact with its limit raised: it warns (energy_warning 0.002) and runs to its
+  // end. A completed run whose balance passed the warning is not reported as good: exit 3,
+  // the status names the warning, and the analysis scripts take the series but say so.
+  const fs::path dir = fs::path(HEXDEM_TEST_WORK_DIR) / "run_health_warning";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string text = kLeakyImpact;
+  text.replace(text.find("energy_limit = 0.005"), 20, "energy_limit = 0.9");
+  {
+    std::ofstream(dir / "warns.toml") << text << "[output]\ninterval = 1e-5\n";
+  }
+  const std::string run = std::string(HEXDEM_BINARY) + " run " + (dir / "warns.toml").string() + " --out " +
+                          (dir / "out").string() + " > " + (dir / "stdout.txt").string() + " 2> " +
+                          (dir / "stderr.txt").string();
+  const int rc = std::system(run.c_str());
+  ASSERT_EQ(WEXITSTATUS(rc), 3) << slurp(dir / "stderr.txt");
+  std::ifstream status(dir / "out" / "family.status");
+  std::string line;
+  std::getline(status, line);
+  EXPECT_EQ(line.rfind("completed with warning: energy error", 0), 0u) << line;
+  EXPECT_NE(line.find("energy_warning = 0.002"), std::string::npos) << line;
+  EXPECT_NE(slurp(dir / "stdout.txt").find("(exit code 3)"), std::string::npos) << slurp(dir / "stdout.txt");
+  EXPECT_NE(slurp(dir / "stderr.txt").find("hexdem: warning: energy error"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "out" / "family.summary.csv")) << "a completed run writes its summary";
+  // The analysis scripts' check returns the warning and prints it as one line, exit 0.
+  const std::string check = std::string(HEXDEM_SYSTEM_PYTHON) + " -c \"import sys; sys.path.insert(0, '" +
+                            HEXDEM_SOURCE_DIR + "/cases'); import run_status; w = run_status.require_completed('" +
+                            (dir / "out" / "family.pvd").string() + "'); sys.exit(0 if 'energy_warning' in w else 4)\" 2> " +
+                            (dir / "py.txt").string();
+  EXPECT_EQ(WEXITSTATUS(std::system(check.c_str())), 0);
+  const std::string msg = slurp(dir / "py.txt");
+  EXPECT_NE(msg.find("completed with a warning, its numbers may be wrong"), std::string::npos) << msg;
   EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << msg;
 }
 

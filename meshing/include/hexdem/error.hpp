@@ -22,6 +22,10 @@ enum ExitCode : int {
   kExitOk = 0,
   kExitFailure = 1,     ///< internal error or numerical failure
   kExitInputError = 2,  ///< bad input (InputError)
+  /// The run reached its end time, but a run-health warning fired on the way (its energy
+  /// balance passed `[time] energy_warning`): the series is complete and its numbers may be
+  /// wrong. `<case>.status` says `completed with warning: ...`.
+  kExitWarning = 3,
 };
 
 }  // namespace hexdem

@@ -97,8 +97,9 @@ public:
   void write_bodies(const Solver& solver);
 
   /// Writes `<case>.status` (one line; replaced atomically): `running` while the run goes,
-  /// `completed` at its end, or `failed: <reason>` (docs/file-format.md). Analysis scripts
-  /// refuse a series whose status is not `completed`.
+  /// `completed` at its end, `completed with warning: <warning>` when a run-health warning
+  /// fired (exit code 3), or `failed: <reason>` (docs/file-format.md). Analysis scripts refuse
+  /// a series that did not complete, and pass the warning on.
   void write_status(const std::string& line);
   /// Writes out and closes the CSVs (end of a run); throws InputError on a failed write.
   void finish();
@@ -155,8 +156,10 @@ struct RunOptions {
   std::string restart;
 };
 
-/// Meshes and runs a case. Returns the exit code: 0 on success, 1 on a numerical blow-up
-/// (reported on stderr with the last good frame). Throws InputError on bad input.
+/// Meshes and runs a case. Returns the exit code: 0 on success, 1 on a numerical blow-up or
+/// an energy balance failure (reported on stderr with the last good frame), 3 when the run
+/// reached its end time with a run-health warning (its energy error passed
+/// `[time] energy_warning`). Throws InputError on bad input.
 int run_case(const Case& c, const RunOptions& options);
 
 }  // namespace hexdem::solver
