@@ -389,13 +389,29 @@ inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
   return std::min(m.ks(b) > 0 ? m.ks(b) : 0.5 * m.kn(b), contact_cap(m, b));
 }
 
+/// Normal stiffness of cracking bond b while closed (delta <= 0; open: (1 - D) k_n) [N/m]:
+/// (1 - D) k_n + min(D k_n, cap), the damaged part acting as the contact
+/// that the bond becomes at D = 1 (contact_normal_stiffness), capped as every contact is
+/// (docs/model.md, "Fracture energy and softening"). The closure is a one-sided spring, and
+/// central differences integrate a step across its kink with an error of order
+/// (omega dt)^2 of its energy (docs/model.md, "Energy at contacts"). Uncapped, the jump
+/// D k_n has omega dt = 0.92 and the crushed disks chatter across it: in the compression
+/// test at r = 0.5 mm and 20 degrees the cracking bonds crossed it 2.8 million times and
+/// created 5.3 mJ (2.3 % of the input, 96 % of the run's energy error).
+inline double closed_crack_stiffness(const Model& m, std::size_t b) {
+  const double k = m.kn(b), excess = m.cracks.damage[b] * k - contact_cap(m, b);
+  return excess > 0 ? k - excess : k;  // k - (D k - cap) = (1 - D) k + cap
+}
+
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
 double intact_bond_energy(const Model& m, std::size_t b) {
   if (!m.cracks.damage.empty() && m.cracks.cracking[b]) {
-    // A cracking bond: (1 - D) on both springs, the normal one only while open.
+    // A cracking bond: (1 - D) on both springs, the normal one while open; closed, the
+    // normal spring of closed_crack_stiffness.
     const double g = 1 - m.cracks.damage[b], delta = m.len_prev[b] - m.rest_length[b];
-    return 0.5 * m.kn(b) * delta * delta * (delta > 0 ? g : 1.0) + g * 0.5 * m.ks(b) * m.u_s[b] * m.u_s[b];
+    return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b) * delta * delta) +
+           g * 0.5 * m.ks(b) * m.u_s[b] * m.u_s[b];
   }
   double e = m.kn(b) != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) : 0.0;
   if (m.ks(b) != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
@@ -467,7 +483,8 @@ constexpr double kNoTension = std::numeric_limits<double>::infinity();
 
 /// Pass B for a bond of a softening material (docs/model.md, "Fracture energy and
 /// softening"); the shear measure u_s is already updated (rotation model: accumulated).
-/// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression fully) and
+/// Forces (1 - D) k_n delta (delta > 0; a closed crack carries compression with the stiffness of
+/// closed_crack_stiffness) and
 /// (1 - D) k_s u_s. Damage grows with the elongation past its largest value, by the linear
 /// law between delta0 and delta_f, only while the springs' energy e is positive, and books
 /// dD (e - half step of the force drop) as fracture energy (a negative part as break_kinetic).
@@ -503,7 +520,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     }
   }
   const double g = 1 - m.cracks.damage[b];
-  m.f_n[b] = m.kn(b) * delta * (delta > 0 ? g : 1.0);
+  // A closed crack carries compression with the normal spring of closed_crack_stiffness.
+  m.f_n[b] = delta > 0 ? m.kn(b) * delta * g : (m.cracks.cracking[b] ? closed_crack_stiffness(m, b) : m.kn(b)) * delta;
   m.f_s[b] = g * m.ks(b) * us;
   m.len_prev[b] = len;
   if (m.cracks.cracking[b]) {
