@@ -44,9 +44,14 @@ def main(argv):
     brazilian = json.load(open(a.brazilian))["runs"]
     study_dir = os.path.dirname(os.path.abspath(a.brazilian))
     for r in sorted(brazilian, key=lambda r: r["angle"]):
-        pvd = os.path.join(study_dir, "brazilian", "a%g" % r["angle"], "brazilian.pvd")
-        if not os.path.isfile(pvd):
-            continue
+        # The study's folder of the run: a<angle>, with _r<radius> when the study had --radii.
+        tags = ["a%g" % r["angle"], "a%g_r%g" % (r["angle"], r["radius"])]
+        found = [p for p in (os.path.join(study_dir, "brazilian", t, "brazilian.pvd") for t in tags)
+                 if os.path.isfile(p)]
+        if not found:
+            sys.exit("figures.py: %s: no series of the %g-degree run under %s (looked for %s)"
+                     % (a.brazilian, r["angle"], os.path.join(study_dir, "brazilian"), ", ".join(tags)))
+        pvd = found[0]
         f = last_frame(pvd, r["split_frame_time"])
         mid = f["mid"][f["opened"]]
         ax[1].scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3,
