@@ -354,6 +354,15 @@ TEST(HostileCli, KillNineLeavesWholeCsvRowsAtOrAfterTheLastFrame) {
     pid_t pid = 0;
     ASSERT_EQ(posix_spawn(&pid, bin.c_str(), &actions, nullptr, argv.data(), environ), 0);
     posix_spawn_file_actions_destroy(&actions);
+    // The delays count from the start of the output (the status file, written just before the
+    // CSVs are opened), not from the spawn: a slow build (sanitizers) on a loaded machine can
+    // spend longer than the shortest delay in its set-up, and a run killed there has written
+    // nothing, which is not what this test is about.
+    const fs::path status_file = dir / "out" / "p.status";
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!fs::exists(status_file) && std::chrono::steady_clock::now() < give_up)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_TRUE(fs::exists(status_file)) << "the run wrote no status within 120 s";
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     kill(pid, SIGKILL);
     int status = 0;
