@@ -90,7 +90,7 @@ def main(argv):
     ap.add_argument("--json")
     ap.add_argument("--check", action="store_true")
     a = ap.parse_args(argv)
-    require_completed(a.pvd, SCRIPT)
+    warning = require_completed(a.pvd, SCRIPT)  # a run that warned is analysed and marked
     stem = os.path.splitext(a.pvd)[0]
     case_toml = stem + ".case.toml"
     import tomllib
@@ -101,7 +101,8 @@ def main(argv):
     energy = read_csv(stem + ".energy.csv")
     frame = last_frame(a.pvd)
     time = reactions["time"]
-    out = {"kind": a.kind, "angle": case["mesh"].get("angle", 0.0), "radius": case["mesh"]["radius"],
+    out = {"kind": a.kind, "run_warning": warning or None,
+           "angle": case["mesh"].get("angle", 0.0), "radius": case["mesh"]["radius"],
            "seed": case.get("random", {}).get("seed"),
            "max_energy_error": float(np.max(np.abs(energy["relative_error"])))}
     checks = []
@@ -172,7 +173,7 @@ def main(argv):
     if a.json:
         with open(a.json, "w") as f:
             json.dump(out, f, indent=1)
-    summary = {k: v for k, v in out.items() if k not in ("curve", "checks")}
+    summary = {k: v for k, v in out.items() if k not in ("curve", "checks", "run_warning")}  # the warning: on stderr
     print(" ".join("%s=%s" % (k, ("%.4g" % v) if isinstance(v, float) else v) for k, v in summary.items()))
     failed = [name for name, ok in checks if not ok]
     for name in failed:

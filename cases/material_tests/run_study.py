@@ -11,8 +11,8 @@ own folder under DIR, analysed by analyse.py. Prints one line per run, then for 
 its mean, the spread (max - min) and the largest deviation from the mean in % of the mean.
 Exits 1 if a run or its analysis fails, a --check or --max limit is passed, or (--strict) a run
 fails one of analyse.py's own checks; otherwise 3 if a run completed with a warning (`hexdem
-run` exit code 3: its energy error passed [time] energy_warning; the run's result has
-"warning"), else 0.
+run` exit code 3: its energy error passed [time] energy_warning; analyse.py records it as the
+result's "run_warning"), else 0.
 """
 import argparse
 import concurrent.futures
@@ -56,12 +56,7 @@ def run_one(args, angle, radius, seed):
     if a.returncode != 0:
         return tag, None, "analysis failed: " + a.stderr.strip()
     with open(js) as f:
-        res = json.load(f)
-    line = a.stdout.strip() + (" " + a.stderr.strip() if a.stderr.strip() else "")
-    if r.returncode == 3:
-        warnings = [w for w in r.stderr.splitlines() if "warning:" in w]
-        res["warning"] = warnings[0].split("warning: ", 1)[1] if warnings else "hexdem run exit 3"
-    return tag, res, line
+        return tag, json.load(f), a.stdout.strip() + (" " + a.stderr.strip() if a.stderr.strip() else "")
 
 
 def main(argv):
@@ -128,10 +123,10 @@ def main(argv):
         print("%s in the run at angle %s, radius %s, seed %s: %s" %
               ("check failed" if args.strict else "not met (reported)", r["angle"], r["radius"], r["seed"],
                ", ".join(k for k, v in r["checks"].items() if not v)))
-    warned = [r for r in rows if r.get("warning")]
+    warned = [r for r in rows if r.get("run_warning")]  # from the run's status (analyse.py)
     for r in warned:
         print("warning in the run at angle %s, radius %s, seed %s: %s" % (r["angle"], r["radius"], r["seed"],
-                                                                         r["warning"]))
+                                                                         r["run_warning"]))
     if not ok or (failed and args.strict):
         sys.exit(1)
     sys.exit(3 if warned else 0)

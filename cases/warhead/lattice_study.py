@@ -93,7 +93,7 @@ def run_member(args, speed, angle, radius, seed):
         "cone_half_angle": cone["half_angle_deg"] if cone.get("formed") else None,
         "broken_bonds": r["broken_bonds"],
         "max_abs_error": r["energy"]["max_abs_relative_error"],
-        "warning": r.get("run_warning"),
+        "run_warning": r.get("run_warning"),
     }, None
 
 
@@ -180,10 +180,10 @@ def main(argv):
             json.dump({"members": members, "groups": groups, "failed": failed}, f, indent=1)
     for tag, why in failed:
         sys.stderr.write("lattice_study.py: %s: %s\n" % (tag, why))
-    warned = [m for m in members if m.get("warning")]
+    warned = [m for m in members if m.get("run_warning")]
     for m in warned:
         sys.stderr.write("lattice_study.py: v%d a%g r%g s%d completed with a warning: %s\n"
-                         % (m["speed"], m["angle"], m["radius"] * 1e3, m["seed"], m["warning"]))
+                         % (m["speed"], m["angle"], m["radius"] * 1e3, m["seed"], m["run_warning"]))
     return 1 if failed else 3 if warned else 0
 
 
