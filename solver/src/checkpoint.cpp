@@ -143,7 +143,6 @@ void visit_model(M& m, V& v) {
   v.state("disk_plastic_work", m.j2.work);
   // adjacency
   v.state("adj_offset", m.adj_offset); v.state("adj_entry", m.adj_entry);
-  v.state("adj_other", m.adj_other);
   v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
   v.rebuilt("event_weights", m.event_weights);  // work space of settle_broken_bonds
   v.rebuilt("event_half", m.event_half);  // work space of settle_broken_bonds

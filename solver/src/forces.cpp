@@ -28,8 +28,8 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
-    const auto o = m.adj_other[k];
-    if (!m.bond_in_fit(b) || !m.strain.ok[static_cast<std::size_t>(o)]) continue;
+    const auto o = m.adj_other(k);
+    if (!m.bond_in_fit(b) || !m.strain.ok[o]) continue;
     const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
     const double dux = fx[o] - fx[i], duy = fy[o] - fy[i];
     gxx += dux * ax;
@@ -759,7 +759,6 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   double* __restrict f_s = m.f_s.data();
   double* __restrict bnx = m.nx.data();
   double* __restrict bny = m.ny.data();
-  double* __restrict bu_s = m.u_s.data();  // local-strain model only
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
@@ -771,9 +770,7 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
     if constexpr (Rotation) {
       f_s[b] += ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
     } else {
-      const double u_s = local_shear(m, static_cast<std::size_t>(b));
-      bu_s[b] = u_s;
-      f_s[b] = ks[kb] * u_s;
+      f_s[b] = ks[kb] * local_shear(m, static_cast<std::size_t>(b));  // u_s is not kept (Model::u_s)
     }
   }
 }
@@ -896,8 +893,9 @@ void gather_forces(Model& m) {
       if constexpr (StrainTerms) {
         if (m.bond_in_fit(b)) {
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
-          const auto o = m.adj_other[k];
-          const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
+          // The other disk, from the bond's ends (Model::adj_other); Model::adj_ax.
+          const auto o = static_cast<std::size_t>(e >= 0 ? m.bj[b] : m.bi[b]);
+          const double ax = m.x0[o] - m.x0[static_cast<std::size_t>(i)], ay = m.y0[o] - m.y0[static_cast<std::size_t>(i)];
           const double ci = m.strain.ok[o] ? 1.0 : 0.0, co = m.strain.ok[i] ? 1.0 : 0.0;
           const double wxx = ci * m.strain.w_xx[i] + co * m.strain.w_xx[o], wxy = ci * m.strain.w_xy[i] + co * m.strain.w_xy[o];
           const double wyx = ci * m.strain.w_yx[i] + co * m.strain.w_yx[o], wyy = ci * m.strain.w_yy[i] + co * m.strain.w_yy[o];

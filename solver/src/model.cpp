@@ -167,7 +167,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     for (auto* v : {&m.strain.minv_xx, &m.strain.minv_xy, &m.strain.minv_yy, &m.strain.eps_xx, &m.strain.eps_yy, &m.strain.eps_xy, &m.strain.w_xx, &m.strain.w_xy, &m.strain.w_yx,
                     &m.strain.w_yy})
       v->assign(n, 0.0);
-    for (auto* v : {&m.u_s, &m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
+    for (auto* v : {&m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
   }
   if (m.any_softening) {
     for (auto* v : {&m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0, &m.cracks.delta_f}) v->assign(nb, 0.0);
@@ -235,6 +235,9 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     ++bond_count[i];
     ++bond_count[j];
   }
+  // The shear displacement is read back by the plastic, failure and J2 laws (bond_forces,
+  // settle_broken_bonds); an elastic lattice's shear force is k_s u_s and keeps no u_s.
+  if (m.uses_strains && (m.any_plastic || m.any_breakable || m.any_softening || m.any_j2)) m.u_s.assign(nb, 0.0);
   // Plane models: the bond's class is in its spring kind (Model::bond_class_of), if every
   // class is one of the two.
   if (per_kind && std::all_of(m.bond_class.begin(), m.bond_class.end(), [](std::uint8_t c) { return c == 1 || c == 2; }))
@@ -248,21 +251,12 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   m.adj_offset.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + bond_count[i];
   m.adj_entry.assign(2 * nb, 0);
-  // The neighbours and reference vectors of the fits: only for the strain terms (the pair
-  // forces need the bond and its sign alone).
-  if (m.uses_strains) {
-    m.adj_other.assign(2 * nb, 0);  // the reference vectors are x0[o] - x0[i] (Model::adj_ax)
-  }
   std::vector<std::int32_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = m.bi[b], j = m.bj[b];
     const auto pi = fill[static_cast<std::size_t>(i)]++, pj = fill[static_cast<std::size_t>(j)]++;
     m.adj_entry[pi] = static_cast<std::int32_t>(b);   // i is the bond's bi
-    m.adj_entry[pj] = ~static_cast<std::int32_t>(b);  // j is its bj
-    if (m.uses_strains) {
-      m.adj_other[pi] = j;
-      m.adj_other[pj] = i;
-    }
+    m.adj_entry[pj] = ~static_cast<std::int32_t>(b);  // j is its bj (Model::adj_other)
   }
   if (m.any_breakable) {
     for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact}) v->assign(n, 0.0);
@@ -386,7 +380,7 @@ void update_strain_matrix(Model& m, std::size_t i) {
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
-    if (!m.bond_in_fit(b) || !m.strain.ok[static_cast<std::size_t>(m.adj_other[k])]) continue;
+    if (!m.bond_in_fit(b) || !m.strain.ok[m.adj_other(k)]) continue;
     const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
     sxx += ax * ax;
     sxy += ax * ay;

@@ -35,7 +35,7 @@ namespace hexdem::solver {
 /// 6: no adjacency reference vectors or signs (model.adj_entry), 32-bit adjacency offsets,
 /// the material per body, the failed bonds' rows (model.failed_rows, model.failed_row).
 /// 7: the Drucker-Prager disks (model.j2_alpha).
-inline constexpr std::uint32_t kCheckpointVersion = 7;
+inline constexpr std::uint32_t kCheckpointVersion = 8;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

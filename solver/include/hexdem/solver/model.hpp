@@ -205,7 +205,8 @@ struct Model {
   MirrorPlanes mirror;
 
   /// Some term needs the disks' strains (local-strain shear, hoop, J2, softening): the
-  /// strain arrays (strain, u_s, g, adj_other) exist only then.
+  /// strain arrays (strain, g) exist only then, and u_s where a law reads it back
+  /// (plasticity, failure, J2: not in an elastic lattice, whose shear force is k_s u_s).
   bool uses_strains = false;
   LocalStrain strain;
   NonlocalStrain nonlocal;
@@ -225,7 +226,9 @@ struct Model {
   std::vector<double> kind_k_n, kind_k_s;
   std::vector<double> f_n, f_s;        ///< normal and shear force [N], tension positive
   std::vector<double> nx, ny;          ///< current unit vector from bi to bj
-  std::vector<double> u_s;             ///< local-strain shear displacement [m]
+  /// Shear displacement [m]: local-strain u_s, or the softening rotation model's accumulated
+  /// one; empty in an elastic lattice (elastic_bond_forces does not keep it).
+  std::vector<double> u_s;
   std::vector<std::uint8_t> state;     ///< BondState
   /// 1 along the lattice axis, 2 the other directions: read through bond_class_of(b); stored
   /// per bond only where the stiffnesses are (axisymmetric), otherwise the spring kind has it.
@@ -298,7 +301,6 @@ struct Model {
   /// The bond of each entry, b where the disk is the bond's bi and ~b (= -1 - b) where it is
   /// its bj: read through adj_bond(k) and adj_sign(k).
   std::vector<std::int32_t> adj_entry;
-  std::vector<std::int32_t> adj_other;   ///< the other disk (strain terms only; empty otherwise)
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
   std::vector<double> event_weights;    ///< settle_broken_bonds: each event's stored energy
@@ -313,15 +315,16 @@ struct Model {
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
+  /// The other disk of adjacency entry k: the bond's bj where the entry's disk is its bi, else
+  /// its bi (read from the bond's ends, not stored: 24 bytes per disk).
+  [[nodiscard]] std::size_t adj_other(std::int64_t k) const {
+    const std::int32_t e = adj_entry[static_cast<std::size_t>(k)];
+    return static_cast<std::size_t>(e >= 0 ? bj[static_cast<std::size_t>(e)] : bi[static_cast<std::size_t>(~e)]);
+  }
   /// Reference vector from disk i to the other disk of its adjacency entry k, x0[o] - x0[i]
-  /// [m], recomputed (strain terms only: adj_other): the same bits as +-ref_ax of the bond,
-  /// since a - b = -(b - a) exactly.
-  [[nodiscard]] double adj_ax(std::size_t i, std::int64_t k) const {
-    return x0[static_cast<std::size_t>(adj_other[static_cast<std::size_t>(k)])] - x0[i];
-  }
-  [[nodiscard]] double adj_ay(std::size_t i, std::int64_t k) const {
-    return y0[static_cast<std::size_t>(adj_other[static_cast<std::size_t>(k)])] - y0[i];
-  }
+  /// [m], recomputed: the same bits as +-ref_ax of the bond, since a - b = -(b - a) exactly.
+  [[nodiscard]] double adj_ax(std::size_t i, std::int64_t k) const { return x0[adj_other(k)] - x0[i]; }
+  [[nodiscard]] double adj_ay(std::size_t i, std::int64_t k) const { return y0[adj_other(k)] - y0[i]; }
   /// The bond of adjacency entry k.
   [[nodiscard]] std::size_t adj_bond(std::int64_t k) const {
     const std::int32_t e = adj_entry[static_cast<std::size_t>(k)];
