@@ -7,10 +7,13 @@ KIND is tension, compression, brazilian or notched_beam. Reads the run's reactio
 probe CSVs and its last frame, and prints one line of results:
   tension       peak stress = max reaction of the grip / (waist width 30 mm x t)
   compression   peak stress = max |reaction| of the platen / (waist width 30 mm x t)
-  brazilian     split strength 2 P / (pi D t); the crack's mean distance from the loaded
-                diameter (bonds broken or with D > 0.5 in the middle half of the disc)
+  brazilian     split strength 2 P / (pi D t); the crack's distance from the loaded diameter
+                (the median abscissa of the open bonds, broken or D > 0.9, in the middle
+                half of the disc, when the load has fallen to 70 % of its peak)
   notched_beam  peak load, deflection at the peak, work of fracture W / (t x ligament)
-                (RILEM TC 50), broken facet length (2r / sqrt 3 per broken bond)
+                (RILEM TC 50), facet length (2r / sqrt 3 per bond) of the cracked bonds
+                (broken or D > 0.5: the crack and its process zone) and of the open ones
+                (broken or D > 0.9: the crack), at the end of the run
 and for all: max |energy error| and the kinetic / elastic energy ratio at 90 % of the peak.
 With --check, exits 1 when a check of the kind fails (limits below); a run that did not
 complete (see run_status.py) is refused with exit 2.
@@ -165,6 +168,7 @@ def main(argv):
         out["elastic_at_end_J"] = float(energy["elastic"][-1])
         r = frame["r"]
         out["broken_facet_length_mm"] = float(frame["cracked"].sum() * 2 * r / math.sqrt(3) * 1e3)
+        out["open_facet_length_mm"] = float(frame["opened"].sum() * 2 * r / math.sqrt(3) * 1e3)
         out["curve"] = {"deflection_mm": [float(v * 1e3) for v in defl[::max(1, len(defl) // 200)]],
                         "load_N": [float(v) for v in force[::max(1, len(force) // 200)]]}
         checks.append(("the load has fallen below 10 % of the peak", out["final_load_over_peak"] < 0.1))

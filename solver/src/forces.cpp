@@ -28,9 +28,9 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
-    const auto o = m.adj_other(k);
+    const auto o = m.adj_other(i, k);
     if (!m.bond_in_fit(b) || !m.strain.ok[o]) continue;
-    const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
+    const double ax = m.x0[o] - m.x0[i], ay = m.y0[o] - m.y0[i];  // Model::adj_ax
     const double dux = fx[o] - fx[i], duy = fy[o] - fy[i];
     gxx += dux * ax;
     gxy += dux * ay;
@@ -894,7 +894,7 @@ void gather_forces(Model& m) {
         if (m.bond_in_fit(b)) {
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
           // The other disk, from the bond's ends (Model::adj_other); Model::adj_ax.
-          const auto o = static_cast<std::size_t>(e >= 0 ? m.bj[b] : m.bi[b]);
+          const auto o = static_cast<std::size_t>(m.bi[b] ^ m.bj[b]) ^ static_cast<std::size_t>(i);
           const double ax = m.x0[o] - m.x0[static_cast<std::size_t>(i)], ay = m.y0[o] - m.y0[static_cast<std::size_t>(i)];
           const double ci = m.strain.ok[o] ? 1.0 : 0.0, co = m.strain.ok[i] ? 1.0 : 0.0;
           const double wxx = ci * m.strain.w_xx[i] + co * m.strain.w_xx[o], wxy = ci * m.strain.w_xy[i] + co * m.strain.w_xy[o];

@@ -380,7 +380,7 @@ void update_strain_matrix(Model& m, std::size_t i) {
   double sxx = 0, sxy = 0, syy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
-    if (!m.bond_in_fit(b) || !m.strain.ok[m.adj_other(k)]) continue;
+    if (!m.bond_in_fit(b) || !m.strain.ok[m.adj_other(i, k)]) continue;
     const double ax = m.adj_ax(i, k), ay = m.adj_ay(i, k);
     sxx += ax * ax;
     sxy += ax * ay;

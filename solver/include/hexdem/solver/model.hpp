@@ -315,16 +315,16 @@ struct Model {
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
   [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
-  /// The other disk of adjacency entry k: the bond's bj where the entry's disk is its bi, else
-  /// its bi (read from the bond's ends, not stored: 24 bytes per disk).
-  [[nodiscard]] std::size_t adj_other(std::int64_t k) const {
-    const std::int32_t e = adj_entry[static_cast<std::size_t>(k)];
-    return static_cast<std::size_t>(e >= 0 ? bj[static_cast<std::size_t>(e)] : bi[static_cast<std::size_t>(~e)]);
+  /// The other disk of disk i's adjacency entry k: bi ^ bj ^ i of the entry's bond (read from
+  /// the bond's ends, not stored: 24 bytes per disk).
+  [[nodiscard]] std::size_t adj_other(std::size_t i, std::int64_t k) const {
+    const std::size_t b = adj_bond(k);
+    return static_cast<std::size_t>(bi[b] ^ bj[b]) ^ i;
   }
   /// Reference vector from disk i to the other disk of its adjacency entry k, x0[o] - x0[i]
   /// [m], recomputed: the same bits as +-ref_ax of the bond, since a - b = -(b - a) exactly.
-  [[nodiscard]] double adj_ax(std::size_t i, std::int64_t k) const { return x0[adj_other(k)] - x0[i]; }
-  [[nodiscard]] double adj_ay(std::size_t i, std::int64_t k) const { return y0[adj_other(k)] - y0[i]; }
+  [[nodiscard]] double adj_ax(std::size_t i, std::int64_t k) const { return x0[adj_other(i, k)] - x0[i]; }
+  [[nodiscard]] double adj_ay(std::size_t i, std::int64_t k) const { return y0[adj_other(i, k)] - y0[i]; }
   /// The bond of adjacency entry k.
   [[nodiscard]] std::size_t adj_bond(std::int64_t k) const {
     const std::int32_t e = adj_entry[static_cast<std::size_t>(k)];
