@@ -1,4 +1,4 @@
-// `hexdem bench --disks N --model M [--failure] [--contacts] --steps S --threads T`: the speed
+// `hexdem bench --disks N --model M [--failure] [--contacts] --steps S --threads T [--order O]`: the speed
 // and memory of the solver's time step on a square block of concrete (docs/benchmarks.md,
 // "Solver step: `hexdem bench`").
 #include <CLI/CLI.hpp>
@@ -37,6 +37,7 @@ struct BenchArgs {
   std::string model = "local-strain";
   std::string steps = "1000";
   std::string threads = "1";
+  std::string order = "rows";
   bool failure = false;
   bool contacts = false;
 };
@@ -104,6 +105,12 @@ int run_bench(const BenchArgs& a) {
   } else if (a.model != "local-strain") {
     throw InputError("--model: unknown model '" + a.model + "' (expected rotation or local-strain)");
   }
+  meshing::DiskOrder order = meshing::DiskOrder::Rows;
+  if (a.order == "hilbert") {
+    order = meshing::DiskOrder::Hilbert;
+  } else if (a.order != "rows") {
+    throw InputError("--order: unknown order '" + a.order + "' (expected rows or hilbert)");
+  }
   omp_set_num_threads(threads);
 
   // A square block of nx disks per row and ny rows (about disks_wanted in all), bottom row
@@ -123,6 +130,7 @@ int run_bench(const BenchArgs& a) {
   c.thickness = 1.0;
   c.shear_model = shear;
   c.max_disks = static_cast<std::int64_t>(2 * disks_wanted) + 1000;
+  c.disk_order = order;
   solver::Material mat;
   mat.id = 1;
   mat.name = "concrete";
@@ -201,7 +209,8 @@ int run_bench(const BenchArgs& a) {
   std::printf("  contacts %s\n", !s.contacts_enabled() ? "off"
                                  : a.contacts          ? "on (sweep and prune: two bodies touching along a row)"
                                                        : "on (sweep and prune: bonds can break)");
-  std::printf("  threads %d\n", omp_get_max_threads());
+  std::printf("  threads %d, disk order %s\n", omp_get_max_threads(),
+              order == meshing::DiskOrder::Hilbert ? "Hilbert curve" : "rows (as generated)");
   std::printf("  time step %.6g s, %lld steps (energy balance checked every %lld steps)\n", s.dt(),
               static_cast<long long>(steps), static_cast<long long>(kCheckInterval));
   std::printf("  set-up time %.3f s (mesh %.3f s, solver set-up %.3f s)\n", setup_s, mesh_s, setup_s - mesh_s);
@@ -246,6 +255,7 @@ Subcommand add_bench_command(CLI::App& app) {
   cmd->add_flag("--contacts", args->contacts, "Two bodies in contact: the contact detection runs every step");
   cmd->add_option("--steps", args->steps, "Time steps to run and time, >= 1 (default 1000)");
   cmd->add_option("--threads", args->threads, "OpenMP threads, 1..1024 (default 1)");
+  cmd->add_option("--order", args->order, "Disk order in memory: rows (as generated, the default) or hilbert");
   return {cmd, [args] { return run_bench(*args); }};
 }
 

@@ -86,6 +86,7 @@ struct MeshSettings {
   std::string outline_file;             ///< as written in the case file
   meshing::ReadOptions options;
   std::int64_t max_disks = meshing::kDefaultMaxDisks;
+  meshing::DiskOrder order = meshing::DiskOrder::Rows;
 };
 
 /// The allowed choices of a string-valued key.
@@ -166,6 +167,8 @@ constexpr Choices<Geometry, 3> kGeometries{{{"plane-stress", Geometry::PlaneStre
                                             {"axisymmetric", Geometry::Axisymmetric}}};
 constexpr Choices<ShearModel, 2> kShearModels{
     {{"local-strain", ShearModel::LocalStrain}, {"rotation", ShearModel::Rotation}}};
+constexpr Choices<meshing::DiskOrder, 2> kDiskOrders{
+    {{"rows", meshing::DiskOrder::Rows}, {"hilbert", meshing::DiskOrder::Hilbert}}};
 constexpr Choices<PlasticityModel, 4> kPlasticityModels{{{"auto", PlasticityModel::Auto},
                                                         {"spring", PlasticityModel::Spring},
                                                         {"j2", PlasticityModel::J2},
@@ -218,7 +221,7 @@ constexpr std::array<Key<Case>, 4> kCaseKeys{{
      }},
 }};
 
-constexpr std::array<Key<MeshSettings>, 6> kMeshKeys{{
+constexpr std::array<Key<MeshSettings>, 7> kMeshKeys{{
     {"outline", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.outline_file = in.name(v, p);
@@ -245,6 +248,8 @@ constexpr std::array<Key<MeshSettings>, 6> kMeshKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.max_disks = in.integer(v, p, 1, INT64_MAX);
      }},
+    {"order", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.order = in.choice(v, p, kDiskOrders); }},
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
@@ -702,6 +707,7 @@ Case Reader::read(toml::table& root) {
   }
   const MeshSettings mesh = read_mesh(root);
   c.max_disks = mesh.max_disks;
+  c.disk_order = mesh.order;
   read_outline(root, mesh, c);
   read_materials(root, c);
   check_bodies(c);

@@ -25,7 +25,9 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
                                                  : meshing::GeometryMode::Plane;
   go.max_disks = c.max_disks;
   go.max_disks_hint = "[mesh] max_disks = N or --max-disks N";
-  return meshing::generate_lattice(c.outline, go, report);
+  meshing::Lattice lattice = meshing::generate_lattice(c.outline, go, report);
+  meshing::apply_disk_order(lattice, c.disk_order);
+  return lattice;
 }
 
 Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std::move(lattice)) {

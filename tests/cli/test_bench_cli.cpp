@@ -61,13 +61,19 @@ void expect_figures(const std::string& options) {
 TEST(BenchCli, Help) {
   const Result r = run_hexdem(work_dir(), "bench --help");
   EXPECT_EQ(r.code, 0);
-  for (const char* option : {"--disks", "--model", "--failure", "--contacts", "--steps", "--threads"})
+  for (const char* option : {"--disks", "--model", "--failure", "--contacts", "--steps", "--threads", "--order"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
 }
 
 TEST(BenchCli, RotationModel) { expect_figures("--model rotation"); }
 
 TEST(BenchCli, LocalStrainModel) { expect_figures("--model local-strain"); }
+
+TEST(BenchCli, HilbertOrder) {
+  expect_figures("--model rotation --order hilbert");
+  const Result r = run_hexdem(work_dir(), "bench --disks 2000 --steps 20 --order hilbert");
+  EXPECT_NE(r.out.find("disk order Hilbert curve"), std::string::npos) << r.out;
+}
 
 TEST(BenchCli, RotationWithFailureAndContacts) { expect_figures("--model rotation --failure --contacts"); }
 
@@ -90,6 +96,7 @@ TEST(BenchCli, BadArgumentsExit2WithOneLine) {
       {"--disks 2000 --steps 0", {"--steps", "0"}},
       {"--disks 2000 --steps 1 --model spring", {"--model", "spring"}},
       {"--disks 2000 --steps 1 --threads 0", {"--threads", "0"}},
+      {"--disks 2000 --steps 1 --order morton", {"--order", "morton", "hilbert"}},
       {"--disks 2000 --steps 1 --threads 2000", {"--threads", "2000", "1024"}},
   };
   for (const auto& [args, needles] : cases) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/lattice_order.hpp"
 #include "hexdem/meshing/outline.hpp"
 #include "hexdem/solver/material.hpp"
 #include "hexdem/solver/time_function.hpp"
@@ -136,6 +137,8 @@ struct Case {
   meshing::Outline outline;       ///< bodies (radius, angle, origin resolved per body)
   /// Largest estimated disk count the mesh may have ([mesh] max_disks, `--max-disks`).
   std::int64_t max_disks = meshing::kDefaultMaxDisks;
+  /// The disks' order in memory ([mesh] order): the generator's rows, or a Hilbert curve.
+  meshing::DiskOrder disk_order = meshing::DiskOrder::Rows;
   std::vector<Material> materials;
   std::vector<BoundaryCondition> boundaries;
   std::vector<Load> loads;
