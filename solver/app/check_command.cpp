@@ -32,8 +32,9 @@ int run_check(const CheckArgs& a) {
 
   std::printf("hexdem check: %s (%s, %s shear model): ok\n", c.source.c_str(), solver::geometry_name(c.geometry),
               solver::shear_model_name(c.shear_model));
-  std::printf("  disks %zu (semi-disks %lld), bonds %zu\n", lattice.num_disks(), static_cast<long long>(rep.semi_disks),
-              lattice.num_bonds());
+  std::printf("  disks %zu (semi-disks %lld), bonds %zu%s\n", lattice.num_disks(), static_cast<long long>(rep.semi_disks),
+              lattice.num_bonds(),
+              c.disk_order == meshing::DiskOrder::Hilbert ? " (numbered along a Hilbert curve: [mesh] order)" : "");
   std::vector<std::size_t> per_body(lattice.body_names.size(), 0);
   for (std::int32_t b : lattice.body) ++per_body[static_cast<std::size_t>(b)];
   for (std::size_t b = 0; b < lattice.body_names.size(); ++b) {

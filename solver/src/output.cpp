@@ -703,8 +703,8 @@ int run_case(const Case& c, const RunOptions& options) {
   if (!options.quiet) {
     std::printf("hexdem run: %s (%s, %s shear model)\n", c.source.c_str(), geometry_name(c.geometry),
                 shear_model_name(c.shear_model));
-    std::printf("  disks %zu, bonds %zu, bodies %zu\n", num_disks, num_bonds,
-                solver.lattice().body_names.size());
+    std::printf("  disks %zu, bonds %zu, bodies %zu%s\n", num_disks, num_bonds, solver.lattice().body_names.size(),
+                c.disk_order == meshing::DiskOrder::Hilbert ? " (numbered along a Hilbert curve: [mesh] order)" : "");
     std::printf("  time step %.6g s (%s; critical %.6g s: Bloch %.6g s, finite model %.6g s; Eq. 24 %.6g s)\n",
                 dt, ts.user_dt ? "given" : "safety x critical", ts.dt_critical, ts.dt_bloch, ts.dt_finite,
                 ts.dt_eq24);

@@ -200,6 +200,27 @@ TEST(Checkpoint, DruckerPragerDisksRoundTripAndContinueBitIdentically) {
   expect_same_continuation(a, b, run, p1, p2);
 }
 
+TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
+  // The disks along a Hilbert curve ([mesh] order): the checkpoint holds the renumbered state,
+  // a restart meshes the same order again, and the rows-ordered case cannot read it.
+  const std::string text = std::string("[mesh]\norder = \"hilbert\"\n") + kImpact;
+  const Case c = parse_case(text, "impact.toml", ".");
+  ASSERT_EQ(c.disk_order, meshing::DiskOrder::Hilbert);
+  Solver a(c, mesh_case(c));
+  advance(a, 60);
+  ASSERT_GT(a.broken_bonds(), 0u);
+  RunState run;
+  const std::string p1 = temp_path("h_a.chk"), p2 = temp_path("h_b.chk");
+  write_checkpoint(p1, a, run);
+  Solver b(c, mesh_case(c));
+  RunState back;
+  read_checkpoint(p1, b, back);
+  expect_same_continuation(a, b, run, p1, p2);
+  const Case rows = parse_case(kImpact, "impact.toml", ".");
+  Solver r(rows, mesh_case(rows));
+  EXPECT_THROW(read_checkpoint(p1, r, back), InputError);
+}
+
 TEST(Checkpoint, AnotherCaseOrLatticeIsRefused) {
   const Case c = parse_case(kImpact, "impact.toml", ".");
   Solver a(c, mesh_case(c));
