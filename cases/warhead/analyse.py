@@ -15,7 +15,9 @@ Definitions (README.md, "Numbers"):
   tip's initial height (lowest warhead disk centre minus its radius) and the warhead's
   centre-of-mass displacement (<case>.bodies.csv; the steel deforms by micrometres);
 - outcome: "perforation" if the tip passes the back face, "rebound" if the warhead ends
-  moving up (v_z > 0.5 m/s) and "embedded" otherwise; the residual velocity is the warhead's
+  moving up (v_z > 0.5 m/s), "penetrating" if it ends still sinking (v_z < -0.5 m/s: the run
+  ended before the outcome was decided) and "embedded" if it has stopped (|v_z| <= 0.5 m/s)
+  inside the disc; the residual velocity is the warhead's
   mass-averaged v_z at the end (positive: up, away from the disc);
 - fragments: connected components of the disks over intact bonds (the filter's
   definition); the warhead's disks are left out; the largest target fragment is the disc
@@ -227,6 +229,8 @@ def analyse(hexdem, pvd):
         outcome = "perforation"
     elif final_v > REBOUND_SPEED:
         outcome = "rebound"
+    elif final_v < -REBOUND_SPEED:
+        outcome = "penetrating"  # still sinking at the end: neither embedded nor perforated yet
     else:
         outcome = "embedded"
 
