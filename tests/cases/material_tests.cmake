@@ -24,6 +24,15 @@ if(NOT HEXDEM_SANITIZE)
     set_tests_properties(case_material_${kind}_angles PROPERTIES LABELS "validation" TIMEOUT 900
       ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
   endforeach()
+  # The check that a Brazilian disc split: the 30-degree disc run only to 1.1 ms (the end time
+  # of earlier builds, at which it had not split yet) must be refused, not given a strength.
+  add_test(NAME case_material_brazilian_unsplit_refused
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/run_study.py brazilian
+            --angles 30 --set time.end=1.1e-3 --strict --out ${HEXDEM_TEST_WORK_DIR}/material_tests_unsplit
+            --jobs 1 --hexdem $<TARGET_FILE:hexdem>)
+  set_tests_properties(case_material_brazilian_unsplit_refused PROPERTIES LABELS "validation" TIMEOUT 300
+    PASS_REGULAR_EXPRESSION "check failed in the run at angle 30[^\n]*: the disc split within the run"
+    ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
   add_test(NAME case_material_notched_beam
     COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/run_study.py notched_beam
             --angles 0 --out ${HEXDEM_TEST_WORK_DIR}/material_tests --jobs 1 --hexdem $<TARGET_FILE:hexdem>
