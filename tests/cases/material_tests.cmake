@@ -24,6 +24,14 @@ if(NOT HEXDEM_SANITIZE)
     set_tests_properties(case_material_${kind}_angles PROPERTIES LABELS "validation" TIMEOUT 900
       ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
   endforeach()
+  set_tests_properties(case_material_brazilian_angles PROPERTIES FIXTURES_SETUP material_brazilian_runs)
+  # bond_modes.py on those discs: the bond families it finds across the split are the lattice's
+  # (0: 0 and 60 degrees to the split's normal; 10: 10, 50, 70; 20: 20, 40, 80; 30: 30 and 90).
+  add_test(NAME case_material_brazilian_bond_modes
+    COMMAND bash -c "set -e; for a in 0 10 20 30; do ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/bond_modes.py ${HEXDEM_TEST_WORK_DIR}/material_tests/brazilian/a$a/brazilian.pvd | awk -F'|' 'NR > 3 { printf \"%d,\", $2 }'; echo \" families at $a\"; done")
+  set_tests_properties(case_material_brazilian_bond_modes PROPERTIES LABELS "validation" TIMEOUT 120
+    FIXTURES_REQUIRED material_brazilian_runs
+    PASS_REGULAR_EXPRESSION "0,60, families at 0\n10,50,70, families at 10\n20,40,80, families at 20\n30,90, families at 30")
   # The check that a Brazilian disc split: the 30-degree disc run only to 1.1 ms (the end time
   # of earlier builds, at which it had not split yet) must be refused, not given a strength.
   add_test(NAME case_material_brazilian_unsplit_refused
