@@ -121,6 +121,9 @@ def main(argv):
     args = parser.parse_args(argv)
     if args.reduced and args.speeds != [100]:
         parser.error("--reduced has 100 m/s only (--speeds 100)")
+    # Absolute: the members' outlines are given to hexdem, which resolves a relative path
+    # against the case file's folder, not the working directory.
+    args.out = os.path.abspath(args.out)
     os.makedirs(args.out, exist_ok=True)
     members, failed = [], []
     print("| v [m/s] | r [mm] | angle | seed | outcome | residual v [m/s] | max depth [mm] | "

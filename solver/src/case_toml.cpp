@@ -253,7 +253,7 @@ constexpr std::array<Key<MeshSettings>, 7> kMeshKeys{{
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
-constexpr std::array<Key<Material>, 21> kMaterialKeys{{
+constexpr std::array<Key<Material>, 22> kMaterialKeys{{
     {"id", true,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.id = static_cast<int>(in.integer(v, p, 0, INT_MAX));
@@ -294,6 +294,8 @@ constexpr std::array<Key<Material>, 21> kMaterialKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.friction = in.number(v, p); }},
     {"fracture_energy", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.fracture_energy = in.number(v, p); }},
+    {"shear_softening", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.shear_softening = in.boolean(v, p); }},
     {"radial_cracks", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.radial_cracks = in.number(v, p); }},
     {"nonlocal_radius", false,

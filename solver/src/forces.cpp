@@ -462,6 +462,10 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
 
 /// newly_broken code of a bond that starts to crack (it stays intact, leaves its disks' fits).
 constexpr std::uint8_t kStartsCracking = 8;
+/// newly_broken: the bond starts a shear crack (shear_softening; cracks.cracking = 2).
+constexpr std::uint8_t kStartsShearCracking = 9;
+/// cracks.cracking of a shear crack (a tension crack: 1).
+constexpr std::uint8_t kShearCrack = 2;
 
 /// Eq. 19: the strengths of a bond of failure law l with section `sec` [m^2] (times the
 /// random field's factor) at the rate factors rf, with tan(phi) precomputed per law.
@@ -476,6 +480,25 @@ inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f
   m.cracks.delta0[b] = m.cracks.kappa[b] = delta;
   m.cracks.delta_f[b] = delta_f;
   m.newly_broken[b] = delta_f > delta ? kStartsCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+}
+
+/// The driver of a shear crack [m]: the springs' energy as an elongation of the normal spring,
+/// sqrt(<delta>^2 + (k_s / k_n) u_s^2), so that 1/2 k_n d^2 is the energy of the springs that
+/// the damage scales (the normal one only while open).
+inline double shear_crack_driver(double kn, double ks, double delta, double us) {
+  const double open = delta > 0 ? delta : 0.0;
+  return std::sqrt(open * open + (ks / kn) * us * us);
+}
+
+/// Starts a shear crack at driver d0 (docs/model.md, "Shear cracks that soften"): linear
+/// softening in the driver from d0 to delta_f = 2 G_F A / (k_n d0), so that the bond
+/// dissipates G_F times its section A (as a tension crack along its bond does); a bond whose
+/// delta_f would not exceed d0 breaks in shear at once.
+inline void start_shear_cracking(Model& m, std::size_t b, double G_F, double d0) {
+  const double delta_f = d0 > 0 ? 2.0 * G_F * m.bond_section(b) / (m.kn(b) * d0) : 0.0;
+  m.cracks.delta0[b] = m.cracks.kappa[b] = d0;
+  m.cracks.delta_f[b] = delta_f;
+  m.newly_broken[b] = delta_f > d0 ? kStartsShearCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Shear);
 }
 
 /// No tensile strength to check (a closing bond does not start to crack).
@@ -499,7 +522,32 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const SofteningParams& sp = m.softening[l];
   const double delta = len - m.rest_length[b];
   const double us = m.u_s[b];
-  if (m.cracks.cracking[b] && delta > m.cracks.kappa[b]) {
+  if (m.cracks.cracking[b] == kShearCrack) {
+    // A shear crack: damage grows with the driver; what it releases is the drop of the
+    // springs' energy at the present displacement (the closed normal spring's too, whose
+    // stiffness falls with D once D k_n passes the contact cap), less the half step of the
+    // force drop that leap-frog's kinetic energy holds, as for a tension crack.
+    const double kn = m.kn(b), ks = m.ks(b);
+    const double drv = shear_crack_driver(kn, ks, delta, us);
+    if (drv > m.cracks.kappa[b]) {
+      const double d_old = m.cracks.damage[b];
+      const double d = laws::LinearSoftening::damage(drv, m.cracks.delta0[b], m.cracks.delta_f[b]);
+      if (d > d_old) {
+        const double cap = contact_cap(m, b);
+        const auto kc = [&](double dmg) { return dmg * kn > cap ? (1 - dmg) * kn + cap : kn; };
+        const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : kc(dmg); };
+        const double e_old = 0.5 * (kn_of(d_old) * delta * delta + (1 - d_old) * ks * us * us);
+        const double e_new = 0.5 * (kn_of(d) * delta * delta + (1 - d) * ks * us * us);
+        const double half = 0.5 * ((kn_of(d_old) - kn_of(d)) * delta * du_n + (d - d_old) * ks * us * du_s);
+        const double released = (e_old - e_new) - half;
+        Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
+        f.fracture_energy += std::max(released, 0.0);
+        f.break_kinetic += std::min(released, 0.0);
+        m.cracks.damage[b] = d;
+      }
+      m.cracks.kappa[b] = drv;
+    }
+  } else if (m.cracks.cracking[b] && delta > m.cracks.kappa[b]) {
     const double d = laws::LinearSoftening::damage(delta, m.cracks.delta0[b], m.cracks.delta_f[b]);
     const double e = 0.5 * (m.kn(b) * delta * delta + m.ks(b) * us * us);
     if (d > m.cracks.damage[b] && e > 0) {
@@ -525,7 +573,10 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   m.f_s[b] = g * m.ks(b) * us;
   m.len_prev[b] = len;
   if (m.cracks.cracking[b]) {
-    if (m.cracks.damage[b] >= 1.0) m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+    if (m.cracks.damage[b] >= 1.0) {
+      const auto mode = m.cracks.cracking[b] == kShearCrack ? laws::FailureMode::Shear : laws::FailureMode::Tension;
+      m.newly_broken[b] = 1 + static_cast<std::uint8_t>(mode);
+    }
     return;
   }
   // Eq. 20: the rate factors at the bond's strain rate; the random field's factor. The
@@ -559,6 +610,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     if (mode == laws::FailureMode::Tension && delta > 0) {
       // Cracking starts as for the continuum criterion, with the bond as the crack normal.
       start_cracking(m, b, delta, laws::LinearSoftening::crack_opening(sp.G_F, st.F_t / sec));
+    } else if (mode == laws::FailureMode::Shear && sp.shear) {
+      start_shear_cracking(m, b, sp.G_F, shear_crack_driver(m.kn(b), m.ks(b), delta, us));
     } else if (mode != laws::FailureMode::None) {
       m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
     }
@@ -598,6 +651,10 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   mc.c *= rate_factors().cohesion;
   mc.f_c *= rf.compression;
   const int mode = mc.mode(s_max, s_min, scale);
+  if (mode == 2 && sp.shear) {
+    start_shear_cracking(m, b, sp.G_F, shear_crack_driver(m.kn(b), m.ks(b), delta, us));
+    return;
+  }
   if (mode != 0) m.newly_broken[b] = static_cast<std::uint8_t>(1 + mode);
 }
 
@@ -1121,10 +1178,10 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     };
     const double before = energy();
     const double own = intact_bond_energy(m, b);
-    const bool starts_cracking = m.newly_broken[b] == kStartsCracking;
+    const bool starts_cracking = m.newly_broken[b] == kStartsCracking || m.newly_broken[b] == kStartsShearCracking;
     if (starts_cracking) {
       // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
-      m.cracks.cracking[b] = 1;
+      m.cracks.cracking[b] = m.newly_broken[b] == kStartsShearCracking ? kShearCrack : 1;
       add_failed_row(m, b);
     } else {
       // BondState = 1 + FailureMode; the contact's row starts at zero.
@@ -1238,7 +1295,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   std::size_t event = 0, breaks = 0;
   for (std::size_t b = first; b < m.num_bonds(); ++b) {
     if (!m.newly_broken[b]) continue;
-    breaks += m.newly_broken[b] != kStartsCracking;
+    breaks += m.newly_broken[b] != kStartsCracking && m.newly_broken[b] != kStartsShearCracking;
     m.newly_broken[b] = 0;
     const double w = m.event_weights[event++];
     m.failed(b).break_kinetic += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);

@@ -140,6 +140,8 @@ std::optional<MaterialIssue> Material::check() const {
   if (!(radial_cracks >= 1.0 && radial_cracks <= 1e6)) return issue("radial_cracks", "must lie in [1, 1e6]", radial_cracks);
   if (!(nonlocal_radius >= 0.0) || !std::isfinite(nonlocal_radius))
     return issue("nonlocal_radius", "must be >= 0 [m]", nonlocal_radius);
+  if (shear_softening && !(fracture_energy > 0))
+    return MaterialIssue{"shear_softening", "softens shear cracks with the fracture energy: it needs a fracture_energy > 0 (got true)"};
   if (nonlocal_radius > 0 && !(fracture_energy > 0))
     return issue("nonlocal_radius", "averages the softening criteria: it needs a fracture_energy", nonlocal_radius);
   if (isotropic) {

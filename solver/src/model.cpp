@@ -154,6 +154,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       sp.lambda3 = mat.lame_lambda();
       sp.lambda2 = geometry == Geometry::PlaneStress ? 2 * sp.lambda3 * sp.mu / (sp.lambda3 + 2 * sp.mu) : sp.lambda3;
       sp.radial_cracks = mat.radial_cracks;
+      sp.shear = mat.shear_softening;
       const double phi = mat.friction_angle * 0.017453292519943295;
       sp.mc = {mat.cohesion, std::sin(phi), std::cos(phi), mat.compressive_strength};
       m.any_softening = true;

@@ -187,6 +187,24 @@ TEST(NonlocalStrain, BadRadiiAreRefused) {
   EXPECT_TRUE(s.model().nonlocal.offset.empty());
 }
 
+TEST(ShearSoftening, NeedsAFractureEnergy) {
+  std::string text = plate_case(0.0, "shear_softening = true");
+  text.replace(text.find("fracture_energy = 100.0"), std::string("fracture_energy = 100.0").size(), "fracture_energy = 0.0");
+  try {
+    (void)parse_case(text, "plate.toml", ".");
+    FAIL() << "shear_softening without a fracture energy was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("plate.toml"), std::string::npos) << what;
+    EXPECT_NE(what.find("shear_softening"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  // With one, it is accepted and reaches the model.
+  const Case c = parse_case(plate_case(0.0, "shear_softening = true"), "plate.toml", ".");
+  Solver s(c, mesh_case(c));
+  EXPECT_TRUE(s.model().softening[0].shear);
+}
+
 TEST(NonlocalStrain, ARunRestartsBitIdentically) {
   // The plate pulled apart at its top: cracks start by the nonlocal criterion; a checkpoint
   // written mid-way continues to the same bits (the rows are rebuilt from the case, the

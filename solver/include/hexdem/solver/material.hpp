@@ -75,6 +75,10 @@ struct Material {
   /// criterion on the continuum stress (docs/model.md, "Fracture energy and softening");
   /// 0: the brittle bond criterion of Eq. 19.
   double fracture_energy = 0;
+  /// Softening: the Mohr-Coulomb shear criterion starts a softening crack that dissipates
+  /// G_F per unit bond section (docs/model.md, "Shear cracks that soften") instead of breaking
+  /// the bond at once; false: shear breaks are brittle, as in earlier builds.
+  bool shear_softening = false;
   /// Axisymmetric softening: the number of radial cracks that hoop tension opens, which sets
   /// the hoop crack band 2 pi b / n of a ring at radius b [-].
   double radial_cracks = 6;

@@ -51,6 +51,7 @@ struct SofteningParams {
   double mu = 0;            ///< shear modulus [Pa]
   double lambda3 = 0;       ///< 3D Lame constant (out-of-plane and hoop terms) [Pa]
   double radial_cracks = 0; ///< axisymmetric: radial cracks that relieve hoop tension [-]
+  bool shear = false;       ///< Mohr-Coulomb shear starts a softening crack (shear_softening)
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
@@ -143,10 +144,13 @@ struct NonlocalStrain {
 /// bond; allocated only when some material has a fracture energy.
 struct BondCracks {
   std::vector<double> damage;           ///< D of the bond's springs [-], 0 intact, 1 broken
-  std::vector<double> kappa;            ///< largest elongation since cracking started [m]
-  std::vector<double> delta0, delta_f;  ///< elongation at the start of cracking and at failure [m]
-  /// 1 once the bond has started to crack: it keeps its (softening) springs but leaves its
-  /// disks' strain fits, so that its opening is not read as strain by its neighbours.
+  /// Largest driver since cracking started [m]: the elongation of a tension crack, the
+  /// energy-equivalent elongation sqrt(<delta>^2 + (k_s / k_n) u_s^2) of a shear crack.
+  std::vector<double> kappa;
+  std::vector<double> delta0, delta_f;  ///< driver at the start of cracking and at failure [m]
+  /// 1 once the bond has started a tension crack, 2 a shear crack (shear_softening): it keeps
+  /// its (softening) springs but leaves its disks' strain fits, so that its opening is not
+  /// read as strain by its neighbours.
   std::vector<std::uint8_t> cracking;
 };
 
