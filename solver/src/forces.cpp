@@ -409,9 +409,13 @@ double intact_bond_energy(const Model& m, std::size_t b) {
   if (!m.cracks.damage.empty() && m.cracks.cracking[b]) {
     // A cracking bond: (1 - D) on both springs, the normal one while open; closed, the
     // normal spring of closed_crack_stiffness.
-    const double g = 1 - m.cracks.damage[b], delta = m.len_prev[b] - m.rest_length[b];
+    const double D = m.cracks.damage[b], g = 1 - D, delta = m.len_prev[b] - m.rest_length[b];
+    const double us = m.u_s[b];
+    // A shear crack: the damaged part of its shear spring is the friction of its faces,
+    // D k_s (u_s - slip) (docs/model.md, "Shear cracks that soften").
+    const double fr = m.cracks.cracking[b] == 2 ? us - m.failed_or_none(b).slip : 0.0;
     return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b) * delta * delta) +
-           g * 0.5 * m.ks(b) * m.u_s[b] * m.u_s[b];
+           g * 0.5 * m.ks(b) * us * us + D * 0.5 * m.ks(b) * fr * fr;
   }
   double e = m.kn(b) != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) : 0.0;
   if (m.ks(b) != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
@@ -523,24 +527,40 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double delta = len - m.rest_length[b];
   const double us = m.u_s[b];
   if (m.cracks.cracking[b] == kShearCrack) {
-    // A shear crack: damage grows with the driver; what it releases is the drop of the
-    // springs' energy at the present displacement (the closed normal spring's too, whose
-    // stiffness falls with D once D k_n passes the contact cap), less the half step of the
-    // force drop that leap-frog's kinetic energy holds, as for a tension crack.
+    // A shear crack (docs/model.md, "Shear cracks that soften"): the springs soften with D,
+    // and the damaged part of the shear spring is the friction of the closed faces,
+    // D k_s (u_s - slip), at most mu |f_n| (nothing while the crack is open). f_s =
+    // (1 - D) k_s u_s + D k_s (u_s - slip) = k_s (u_s - D slip). Each update books the drop
+    // of the springs' energy at the present displacement less the half step of the force
+    // drop that leap-frog's kinetic energy holds: the slip's as friction, the damage step's
+    // as fracture energy (a negative part as break_kinetic), as for a tension crack.
     const double kn = m.kn(b), ks = m.ks(b);
+    Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
+    const double d_old = m.cracks.damage[b];
+    const double cap = contact_cap(m, b);
+    const auto kc = [&](double dmg) { return dmg * kn > cap ? (1 - dmg) * kn + cap : kn; };
+    const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : kc(dmg); };
+    if (d_old > 0) {
+      const double limit = delta > 0 ? 0.0 : m.bond_mu(b) * kc(d_old) * (-delta);
+      const double trial = d_old * ks * (us - f.slip);
+      if (std::abs(trial) > limit) {
+        const double slip = us - std::copysign(limit, trial) / (d_old * ks);
+        const double a = us - f.slip, c = us - slip;
+        const double dissipated = 0.5 * d_old * ks * (a * a - c * c) - 0.5 * d_old * ks * (slip - f.slip) * du_s;
+        f.friction_work += dissipated;
+        f.slip = slip;
+      }
+    }
     const double drv = shear_crack_driver(kn, ks, delta, us);
     if (drv > m.cracks.kappa[b]) {
-      const double d_old = m.cracks.damage[b];
       const double d = laws::LinearSoftening::damage(drv, m.cracks.delta0[b], m.cracks.delta_f[b]);
       if (d > d_old) {
-        const double cap = contact_cap(m, b);
-        const auto kc = [&](double dmg) { return dmg * kn > cap ? (1 - dmg) * kn + cap : kn; };
-        const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : kc(dmg); };
-        const double e_old = 0.5 * (kn_of(d_old) * delta * delta + (1 - d_old) * ks * us * us);
-        const double e_new = 0.5 * (kn_of(d) * delta * delta + (1 - d) * ks * us * us);
-        const double half = 0.5 * ((kn_of(d_old) - kn_of(d)) * delta * du_n + (d - d_old) * ks * us * du_s);
-        const double released = (e_old - e_new) - half;
-        Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
+        const double fr = us - f.slip;
+        const auto energy = [&](double dmg) {
+          return 0.5 * (kn_of(dmg) * delta * delta + (1 - dmg) * ks * us * us + dmg * ks * fr * fr);
+        };
+        const double half = 0.5 * ((kn_of(d_old) - kn_of(d)) * delta * du_n + (d - d_old) * ks * f.slip * du_s);
+        const double released = (energy(d_old) - energy(d)) - half;
         f.fracture_energy += std::max(released, 0.0);
         f.break_kinetic += std::min(released, 0.0);
         m.cracks.damage[b] = d;
@@ -570,7 +590,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double g = 1 - m.cracks.damage[b];
   // A closed crack carries compression with the normal spring of closed_crack_stiffness.
   m.f_n[b] = delta > 0 ? m.kn(b) * delta * g : (m.cracks.cracking[b] ? closed_crack_stiffness(m, b) : m.kn(b)) * delta;
-  m.f_s[b] = g * m.ks(b) * us;
+  m.f_s[b] = m.cracks.cracking[b] == kShearCrack ? m.ks(b) * (us - m.cracks.damage[b] * m.failed(b).slip)
+                                                : g * m.ks(b) * us;
   m.len_prev[b] = len;
   if (m.cracks.cracking[b]) {
     if (m.cracks.damage[b] >= 1.0) {

@@ -290,8 +290,8 @@ TEST(Restart, BadCheckpointsAreRefused) {
   expect_refused("hello", "not a hexdem checkpoint");
   expect_refused(good.substr(0, good.size() / 2), "checksum");
   std::string version = good;
-  version[8] = 9;  // the format version follows the 8-byte magic
-  expect_refused(version, "checkpoint format version 9, this hexdem reads version 8");
+  version[8] = 10;  // the format version follows the 8-byte magic
+  expect_refused(version, "checkpoint format version 10, this hexdem reads version 9");
   std::string flipped = good;
   flipped[flipped.size() / 2] ^= 1;
   expect_refused(flipped, "damaged or truncated checkpoint");

@@ -35,7 +35,9 @@ namespace hexdem::solver {
 /// 6: no adjacency reference vectors or signs (model.adj_entry), 32-bit adjacency offsets,
 /// the material per body, the failed bonds' rows (model.failed_rows, model.failed_row).
 /// 7: the Drucker-Prager disks (model.j2_alpha).
-inline constexpr std::uint32_t kCheckpointVersion = 8;
+/// 8: no stored neighbour per adjacency entry, no shear displacement in an elastic lattice.
+/// 9: the slip of a softening shear crack's faces in the failed bonds' rows (FailedBond::slip).
+inline constexpr std::uint32_t kCheckpointVersion = 9;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

@@ -265,10 +265,12 @@ struct Model {
   /// (dt/2) v(t-dt/2).dF: O(dt), not energy the bond stored; docs/model.md, "Energy at a
   /// break") [J]; its break time [s] (-1 until it breaks); and once broken, its contact
   /// (state II): the dashpot's part of f_n at the last update [N] and the cumulative dashpot
-  /// and friction work [J].
+  /// and friction work [J]; while a shear crack softens, the slip of its closed faces [m]
+  /// (docs/model.md, "Shear cracks that soften").
   struct FailedBond {
     double fracture_energy = 0, break_kinetic = 0, break_time = -1;
     double f_damp = 0, damping_work = 0, friction_work = 0;
+    double slip = 0;
   };
   /// One row per bond that has cracked or broken, in the order they did (settle_broken_bonds
   /// adds it), and each bond's row, -1 before (allocated if any_breakable): all of it is zero
