@@ -205,79 +205,29 @@ TEST(ShearSoftening, NeedsAFractureEnergy) {
   EXPECT_TRUE(s.model().softening[0].shear);
 }
 
-TEST(NonlocalStrain, ARunRestartsBitIdentically) {
-  // The plate pulled apart at its top: cracks start by the nonlocal criterion; a checkpoint
-  // written mid-way continues to the same bits (the rows are rebuilt from the case, the
-  // averages from the strains).
-  std::string text = plate_case(11.0, "nonlocal_radius = 4e-3");
+/// plate_case with its top edge a set "grip" held at the velocity `velocity` ("vy = 2.0"...).
+std::string gripped_plate(double angle, const std::string& extra, const std::string& velocity) {
+  std::string text = plate_case(angle, extra);
   const std::string sets = "boundary = { bottom = \"base\" }";
   text.replace(text.find(sets), sets.size(), "boundary = { bottom = \"base\", top = \"grip\" }");
-  text += "[[boundary]]\nset = \"grip\"\ntype = \"velocity\"\nvy = 2.0\n";
-  const Case c = parse_case(text, "plate.toml", ".");
-  const meshing::Lattice lattice = mesh_case(c);
-  Solver a(c, lattice);
-  std::size_t cracking = 0;
-  for (int k = 0; k < 400 && cracking == 0; ++k) {
-    ASSERT_TRUE(a.advance(k % 7 == 0));
-    cracking = static_cast<std::size_t>(std::count(a.model().cracks.cracking.begin(), a.model().cracks.cracking.end(), 1));
-  }
-  ASSERT_GT(cracking, 0u) << "no crack started";
-  namespace fs = std::filesystem;
-  const fs::path d = fs::temp_directory_path() / ("hexdem_test_nonlocal_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  RunState run;
-  write_checkpoint((d / "a.chk").string(), a, run);
-  Solver b(c, lattice);
-  RunState back;
-  read_checkpoint((d / "a.chk").string(), b, back);
-  for (int k = 0; k < 60; ++k) {
-    ASSERT_TRUE(a.advance(k % 7 == 0));
-    ASSERT_TRUE(b.advance(k % 7 == 0));
-  }
-  write_checkpoint((d / "a2.chk").string(), a, run);
-  write_checkpoint((d / "b2.chk").string(), b, run);
-  const auto slurp = [](const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  EXPECT_TRUE(slurp(d / "a2.chk") == slurp(d / "b2.chk")) << "the continuation differs";
-  EXPECT_EQ(a.energy().total(), b.energy().total());
-  fs::remove_all(d);
+  return text + "[[boundary]]\nset = \"grip\"\ntype = \"velocity\"\n" + velocity + "\n";
 }
 
-TEST(ShearSoftening, ARunWithSlidingShearCracksRestartsBitIdentically) {
-  // The plate's top pushed down and sideways: shear cracks start (shear_softening) and their
-  // closed faces slip; a checkpoint written then continues to the same bits (the slip is in
-  // the failed bonds' rows).
-  std::string text = plate_case(11.0, "shear_softening = true");
-  const std::string sets = "boundary = { bottom = \"base\" }";
-  text.replace(text.find(sets), sets.size(), "boundary = { bottom = \"base\", top = \"grip\" }");
-  text += "[[boundary]]\nset = \"grip\"\ntype = \"velocity\"\nvx = 3.0\nvy = -1.0\n";
-  const Case c = parse_case(text, "plate.toml", ".");
-  const meshing::Lattice lattice = mesh_case(c);
-  Solver a(c, lattice);
-  const auto sliding = [](const Model& m) {
-    std::size_t n = 0;
-    for (std::size_t b = 0; b < m.num_bonds(); ++b)
-      n += m.cracks.cracking[b] == 2 && m.bond_intact(b) && m.failed_or_none(b).slip != 0.0 ? 1 : 0;
-    return n;
-  };
-  int k = 0;
-  for (; k < 20000 && sliding(a.model()) < 5; ++k) ASSERT_TRUE(a.advance(k % 7 == 0));
-  ASSERT_GE(sliding(a.model()), 5u) << "no shear crack slid within " << k << " steps";
+/// Writes a checkpoint of `a`, reads it into a second solver of the same case, advances both
+/// `steps` steps and expects the same bits (checkpoints byte for byte, the ledger's total).
+void expect_bit_identical_continuation(const Case& c, const meshing::Lattice& lattice, Solver& a, int steps,
+                                       const std::string& tag) {
   namespace fs = std::filesystem;
-  const fs::path d = fs::temp_directory_path() / ("hexdem_test_shear_" + std::to_string(::getpid()));
+  const fs::path d = fs::temp_directory_path() / ("hexdem_test_" + tag + "_" + std::to_string(::getpid()));
   fs::create_directories(d);
   RunState run;
   write_checkpoint((d / "a.chk").string(), a, run);
   Solver b(c, lattice);
   RunState back;
   read_checkpoint((d / "a.chk").string(), b, back);
-  for (int n = 0; n < 200; ++n) {
-    ASSERT_TRUE(a.advance(n % 7 == 0));
-    ASSERT_TRUE(b.advance(n % 7 == 0));
+  for (int k = 0; k < steps; ++k) {
+    ASSERT_TRUE(a.advance(k % 7 == 0));
+    ASSERT_TRUE(b.advance(k % 7 == 0));
   }
   write_checkpoint((d / "a2.chk").string(), a, run);
   write_checkpoint((d / "b2.chk").string(), b, run);
@@ -289,11 +239,46 @@ TEST(ShearSoftening, ARunWithSlidingShearCracksRestartsBitIdentically) {
   };
   EXPECT_TRUE(slurp(d / "a2.chk") == slurp(d / "b2.chk")) << "the continuation differs";
   EXPECT_EQ(a.energy().total(), b.energy().total());
+  fs::remove_all(d);
+}
+
+TEST(NonlocalStrain, ARunRestartsBitIdentically) {
+  // The plate pulled apart at its top: cracks start by the nonlocal criterion; a checkpoint
+  // written mid-way continues to the same bits (the rows are rebuilt from the case, the
+  // averages from the strains).
+  const Case c = parse_case(gripped_plate(11.0, "nonlocal_radius = 4e-3", "vy = 2.0"), "plate.toml", ".");
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  std::size_t cracking = 0;
+  for (int k = 0; k < 400 && cracking == 0; ++k) {
+    ASSERT_TRUE(a.advance(k % 7 == 0));
+    cracking = static_cast<std::size_t>(std::count(a.model().cracks.cracking.begin(), a.model().cracks.cracking.end(), 1));
+  }
+  ASSERT_GT(cracking, 0u) << "no crack started";
+  expect_bit_identical_continuation(c, lattice, a, 60, "nonlocal");
+}
+
+TEST(ShearSoftening, ARunWithSlidingShearCracksRestartsBitIdentically) {
+  // The plate's top pushed down and sideways: shear cracks start (shear_softening) and their
+  // closed faces slip; a checkpoint written then continues to the same bits (the slip is in
+  // the failed bonds' rows).
+  const Case c = parse_case(gripped_plate(11.0, "shear_softening = true", "vx = 3.0\nvy = -1.0"), "plate.toml", ".");
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  const auto sliding = [](const Model& m) {
+    std::size_t n = 0;
+    for (std::size_t b = 0; b < m.num_bonds(); ++b)
+      n += m.cracks.cracking[b] == 2 && m.bond_intact(b) && m.failed_or_none(b).slip != 0.0 ? 1 : 0;
+    return n;
+  };
+  int k = 0;
+  for (; k < 20000 && sliding(a.model()) < 5; ++k) ASSERT_TRUE(a.advance(k % 7 == 0));
+  ASSERT_GE(sliding(a.model()), 5u) << "no shear crack slid within " << k << " steps";
+  expect_bit_identical_continuation(c, lattice, a, 200, "shear");
   EXPECT_GT(a.energy().friction, 0.0);
   EXPECT_LE(std::abs(a.energy().relative_error()), 0.01);
   std::printf("after %d steps: %zu sliding shear cracks, friction %.3e J, fracture %.3e J, |Err| %.2e\n", k,
               sliding(a.model()), a.energy().friction, a.energy().fracture, std::abs(a.energy().relative_error()));
-  fs::remove_all(d);
 }
 
 }  // namespace
