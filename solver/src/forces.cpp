@@ -398,10 +398,18 @@ inline double contact_tangential_stiffness(const Model& m, std::size_t b) {
 /// D k_n has omega dt = 0.92 and the crushed disks chatter across it: in the compression
 /// test at r = 0.5 mm and 20 degrees the cracking bonds crossed it 2.8 million times and
 /// created 5.3 mJ (2.3 % of the input, 96 % of the run's energy error).
-inline double closed_crack_stiffness(const Model& m, std::size_t b) {
-  const double k = m.kn(b), excess = m.cracks.damage[b] * k - contact_cap(m, b);
+/// At damage D (a damage step compares the stiffness before and after it).
+inline double closed_crack_stiffness(const Model& m, std::size_t b, double D) {
+  const double k = m.kn(b), excess = D * k - contact_cap(m, b);
   return excess > 0 ? k - excess : k;  // k - (D k - cap) = (1 - D) k + cap
 }
+inline double closed_crack_stiffness(const Model& m, std::size_t b) {
+  return closed_crack_stiffness(m, b, m.cracks.damage[b]);
+}
+
+/// cracks.cracking of a tension crack and of a shear crack (shear_softening).
+constexpr std::uint8_t kTensionCrack = 1;
+constexpr std::uint8_t kShearCrack = 2;
 
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
@@ -413,7 +421,7 @@ double intact_bond_energy(const Model& m, std::size_t b) {
     const double us = m.u_s[b];
     // A shear crack: the damaged part of its shear spring is the friction of its faces,
     // D k_s (u_s - slip) (docs/model.md, "Shear cracks that soften").
-    const double fr = m.cracks.cracking[b] == 2 ? us - m.failed_or_none(b).slip : 0.0;
+    const double fr = m.cracks.cracking[b] == kShearCrack ? us - m.failed_or_none(b).slip : 0.0;
     return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b) * delta * delta) +
            g * 0.5 * m.ks(b) * us * us + D * 0.5 * m.ks(b) * fr * fr;
   }
@@ -466,10 +474,8 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
 
 /// newly_broken code of a bond that starts to crack (it stays intact, leaves its disks' fits).
 constexpr std::uint8_t kStartsCracking = 8;
-/// newly_broken: the bond starts a shear crack (shear_softening; cracks.cracking = 2).
+/// newly_broken: the bond starts a shear crack (shear_softening; cracks.cracking = kShearCrack).
 constexpr std::uint8_t kStartsShearCracking = 9;
-/// cracks.cracking of a shear crack (a tension crack: 1).
-constexpr std::uint8_t kShearCrack = 2;
 
 /// Eq. 19: the strengths of a bond of failure law l with section `sec` [m^2] (times the
 /// random field's factor) at the rate factors rf, with tan(phi) precomputed per law.
@@ -537,11 +543,10 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     const double kn = m.kn(b), ks = m.ks(b);
     Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
     const double d_old = m.cracks.damage[b];
-    const double cap = contact_cap(m, b);
-    const auto kc = [&](double dmg) { return dmg * kn > cap ? (1 - dmg) * kn + cap : kn; };
-    const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : kc(dmg); };
+    // The normal spring at damage D: open, (1 - D) k_n; closed, closed_crack_stiffness.
+    const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : closed_crack_stiffness(m, b, dmg); };
     if (d_old > 0) {
-      const double limit = delta > 0 ? 0.0 : m.bond_mu(b) * kc(d_old) * (-delta);
+      const double limit = delta > 0 ? 0.0 : m.bond_mu(b) * kn_of(d_old) * (-delta);
       const double trial = d_old * ks * (us - f.slip);
       if (std::abs(trial) > limit) {
         const double slip = us - std::copysign(limit, trial) / (d_old * ks);
@@ -672,7 +677,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   mc.c *= rate_factors().cohesion;
   mc.f_c *= rf.compression;
   const int mode = mc.mode(s_max, s_min, scale);
-  if (mode == 2 && sp.shear) {
+  if (mode == static_cast<int>(laws::FailureMode::Shear) && sp.shear) {
     start_shear_cracking(m, b, sp.G_F, shear_crack_driver(m.kn(b), m.ks(b), delta, us));
     return;
   }
@@ -1202,7 +1207,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     const bool starts_cracking = m.newly_broken[b] == kStartsCracking || m.newly_broken[b] == kStartsShearCracking;
     if (starts_cracking) {
       // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
-      m.cracks.cracking[b] = m.newly_broken[b] == kStartsShearCracking ? kShearCrack : 1;
+      m.cracks.cracking[b] = m.newly_broken[b] == kStartsShearCracking ? kShearCrack : kTensionCrack;
       add_failed_row(m, b);
     } else {
       // BondState = 1 + FailureMode; the contact's row starts at zero.
