@@ -7,6 +7,8 @@ set -euo pipefail
 # libopenmpi-dev: ParaView's CMake package checks MPI headers at configure time.
 # libdeflate-dev: the .vtu writer's zlib streams (zlib1g-dev: the readers and checks).
 # calculix-ccx: the finite-element reference of cases/narrow_plate (ctest case_narrow_plate_calculix).
+# python3-scipy: the sparse solver of the notched beam's fictitious-crack reference
+# (cases/material_tests/fictitious_crack.py, ctest case_material_notched_beam_reference).
 # paraview: the GUI the README opens results in; libqt5svg5: without it the GUI's toolbar icons
 # (SVG) are blank.
 packages=(
@@ -14,7 +16,7 @@ packages=(
   paraview paraview-dev libopenmpi-dev python3-paraview python3-numpy xvfb xauth libqt5svg5
   libcgal-dev libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev libdxflib-dev zlib1g-dev libdeflate-dev
-  python3-ezdxf python3-matplotlib clang-format time calculix-ccx
+  python3-ezdxf python3-matplotlib python3-scipy clang-format time calculix-ccx
 )
 
 missing=()

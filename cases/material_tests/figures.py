@@ -2,11 +2,13 @@
 """Figure of the virtual material tests (cases/material_tests/README.md).
 
     figures.py OUT.png --tension T.json --brazilian B.json --beam BEAM.json [BEAM2.json ...]
+               [--beam-reference FC.json [FC2.json ...]]
 
 T.json and B.json are `run_study.py --json` files of the angle studies, BEAM*.json those of
 notched-beam runs (one curve per run). Left: the tension test's stress-displacement curves at
 every lattice angle; middle: the Brazilian discs' open bonds (broken, or D > 0.9) at the split,
-one colour per angle; right: the notched beam's load-deflection curves.
+one colour per angle; right: the notched beam's load-deflection curves, with the
+fictitious-crack finite-element curves of `fictitious_crack.py --json FC.json` when given.
 """
 import argparse
 import json
@@ -25,6 +27,7 @@ def main(argv):
     ap.add_argument("--tension", required=True)
     ap.add_argument("--brazilian", required=True)
     ap.add_argument("--beam", nargs="+", required=True)
+    ap.add_argument("--beam-reference", nargs="+", default=[], help="fictitious_crack.py --json files")
     a = ap.parse_args(argv)
     import matplotlib
     matplotlib.use("Agg")
@@ -70,6 +73,11 @@ def main(argv):
             ax[2].plot(c["deflection_mm"], c["load_N"],
                        label="r = %g mm: peak %.0f N, W/A %.0f J/m^2" % (r["radius"] * 1e3, r["peak_load_N"],
                                                                        r["work_of_fracture_J_m2"]))
+    for path, style in zip(a.beam_reference, ("k--", "k:", "k-.")):
+        ref = json.load(open(path))
+        sup = "20 mm strip supports (as the case)" if ref["supports"] == "strip" else "hinged supports"
+        ax[2].plot([p["deflection_mm"] for p in ref["points"]], [p["load_N"] for p in ref["points"]], style, lw=1.5,
+                   label="fictitious crack FE, %s: peak %.0f N" % (sup, ref["peak_load_N"]))
     ax[2].set_xlabel("deflection [mm]")
     ax[2].set_ylabel("load [N]")
     ax[2].set_title("notched beam (Petersson), G_F = 124 J/m^2")
