@@ -7,7 +7,7 @@
 
 The beam of cases/material_tests/notched_beam.toml (span 2 m, length 2.2 m, depth 200.918 mm,
 notch 100 mm deep and 10 mm wide, t = 50 mm, plane stress, E 30 GPa, nu 0.2, f_t 3.33 MPa,
-G_F 124 J/m^2, 20 mm support and loading strips), computed with the fictitious crack model of
+G_F 124 J/m^2, hinged supports, a 20 mm loading strip), computed with the fictitious crack model of
 Hillerborg, Modeer and Petersson (1976), the model Petersson (1981) fitted his beam tests with:
 a linear elastic continuum (bilinear quadrilaterals, 2 x 2 Gauss points) and one cohesive crack
 on the symmetry line above the notch, closed until its stress reaches f_t and then softening
@@ -16,10 +16,12 @@ dissipated G_F per unit area. The same linear law as hexdem's `fracture_energy`
 (docs/model.md, "Fracture energy and softening"), but nothing else in common: no lattice, no
 dynamics, no disks; a static solution on a mesh of squares of side h.
 
-By default the boundary conditions are the case's: every node of the 20 mm support strips held
-vertically (which resists the beam's rotation there), every node of the 20 mm loading strip at
-the same deflection, pushing or pulling. `--supports point` holds one node at x = -1 m instead
-(a hinge), `--strip contact` lets the loading strip's nodes lift off (a plate that only pushes).
+By default the boundary conditions are the case's: the beam rests on one node at x = -1 m
+(a hinge: the case's 0.2 mm support edges hold one disk each), every node of the 20 mm
+loading strip at the same deflection, pushing or pulling. `--supports strip` holds every node of
+a 20 mm strip at x = -1 m vertically instead, as the case's earlier builds did (which resists
+the beam's rotation there); `--strip contact` lets the loading strip's nodes lift off (a plate
+that only pushes).
 
 Half of the beam is meshed (x <= 0). The crack's nodes are the symmetry line's nodes from the
 notch tip to the top; the top node is held (it stays in compression; checked). The crack is
@@ -96,8 +98,8 @@ def q4_stiffness(a, b, t):
 def build(h, point_supports=False):
     """Mesh, stiffness and the condensed crack problem for element side h [mm].
 
-    point_supports: the beam rests on one node at x = -1000 mm (a hinge) instead of the case's
-    20 mm strip, every node of which is held vertically (which resists the beam's rotation)."""
+    point_supports: the beam rests on one node at x = -1000 mm (a hinge, as the case) instead of
+    a 20 mm strip, every node of which is held vertically (which resists the beam's rotation)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
@@ -181,7 +183,7 @@ def trace(m, end_mm, contact):
     ns = len(m["strip_x"])
     kco = 2.0 * area * ft / wc            # cohesive stiffness per node (opening = -2 u)
     points = [dict(deflection_mm=0.0, load_N=0.0, elastic_J=0.0, dissipated_J=0.0, tip_mm=float(m["y"][0]),
-                   strip_contact_mm=2.0 * LOAD_HALF)]
+                   strip_contact_mm=2.0 * LOAD_HALF, cracked_mm=0.0, free_mm=0.0)]
     # Every crack node below the tip is cohesive (softening, 0 <= w <= w_c), free (w > w_c, no
     # traction) or shut (pressed closed, u = 0, its stress <= f_t); every strip node is pressed
     # (u = -delta) or lifted (no force, above the strip). An active set, iterated until every
@@ -281,7 +283,10 @@ def trace(m, end_mm, contact):
         xs = m["strip_x"][pressed]
         points.append(dict(deflection_mm=delta, load_N=2.0 * p_half, elastic_J=2.0 * u_half * 1e-3,
                            dissipated_J=float(g.sum()) * 1e-3, tip_mm=float(m["y"][tip]),
-                           strip_contact_mm=2.0 * float(-xs.min()) if len(xs) else 0.0))
+                           strip_contact_mm=2.0 * float(-xs.min()) if len(xs) else 0.0,
+                           # crack lengths: opened (w > 0) and stress-free (w >= w_c) [mm]
+                           cracked_mm=float(np.sum(area[coh | free])) / THICKNESS,
+                           free_mm=float(np.sum(area[free])) / THICKNESS))
         if delta < points[-2]["deflection_mm"]:
             checks["snap_back"] = True
         if delta > end_mm:
@@ -366,9 +371,9 @@ def main(argv):
     ap.add_argument("--strip", default="bonded",
                     help="loading strip: 'bonded' (pushes and pulls, as the hexdem case's velocity condition; "
                          "default) or 'contact' (only pushes, as a loading plate)")
-    ap.add_argument("--supports", default="strip",
-                    help="'strip' (the case's 20 mm strips, every node held vertically; default) or 'point' "
-                         "(one node at x = +-1 m: a hinge, as the rollers of a test)")
+    ap.add_argument("--supports", default="point",
+                    help="'point' (one node at x = +-1 m: a hinge, as the case's supports; default) or 'strip' "
+                         "(20 mm strips, every node held vertically, as the case's earlier builds)")
     ap.add_argument("--json", help="write the curve and the figures here")
     ap.add_argument("--check", action="store_true", help="exit 1 when a check fails")
     ap.add_argument("--compare", nargs="+", default=[], help="run_study.py --json files of hexdem beam runs")
@@ -420,14 +425,16 @@ def main(argv):
     # The figures at the end deflection, interpolated between the two points around it.
     dd = np.array([p["deflection_mm"] for p in points])
     last = {key: float(np.interp(end, dd, [p[key] for p in points]))
-            for key in ("deflection_mm", "load_N", "work_J", "elastic_J", "dissipated_J", "tip_mm")}
+            for key in ("deflection_mm", "load_N", "work_J", "elastic_J", "dissipated_J", "tip_mm", "cracked_mm",
+                        "free_mm")}
     print("fictitious crack, h = %g mm, %s loading strip, %s supports: %d nodes, %d elements, %d crack nodes"
           % (h, a.strip, "20 mm strip" if a.supports == "strip" else "point", m["nodes"], m["elements"], len(m["area"]) + 1))
     print("peak load %.1f N at %.3f mm (tip at %.1f mm)" % (peak["load_N"], peak["deflection_mm"], peak["tip_mm"]))
     print("at %.3f mm: load %.1f N (%.1f %% of the peak), tip at %.1f mm, W %.4f J, W / A_lig %.1f J/m^2, "
-          "dissipated / A_lig %.1f J/m^2, elastic %.4f J"
+          "dissipated / A_lig %.1f J/m^2, elastic %.4f J; crack opened over %.1f mm, stress-free over %.1f mm"
           % (last["deflection_mm"], last["load_N"], 100.0 * last["load_N"] / peak["load_N"], last["tip_mm"],
-             last["work_J"], last["work_J"] / lig_m2, last["dissipated_J"] / lig_m2, last["elastic_J"]))
+             last["work_J"], last["work_J"] / lig_m2, last["dissipated_J"] / lig_m2, last["elastic_J"],
+             last["cracked_mm"], last["free_mm"]))
     print("checks: energy balance %.2e of W (<= 1e-2), re-closing %.2e w_c (<= 1e-9), closed nodes over f_t by %.2e "
           "(<= 1e-6), top in compression: %s, snap-back: %s"
           % (checks["energy_balance"], checks["reclosing"], checks["closed_over_ft"],

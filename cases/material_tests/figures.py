@@ -75,13 +75,15 @@ def main(argv):
                                                                        r["work_of_fracture_J_m2"]))
     for path, style in zip(a.beam_reference, ("k--", "k:", "k-.")):
         ref = json.load(open(path))
-        sup = "20 mm strip supports (as the case)" if ref["supports"] == "strip" else "hinged supports"
+        sup = "hinged supports (as the case)" if ref["supports"] == "point" else "20 mm held support strips"
+        if ref.get("strip") == "contact":
+            sup += ", a loading plate that only pushes"
         ax[2].plot([p["deflection_mm"] for p in ref["points"]], [p["load_N"] for p in ref["points"]], style, lw=1.5,
                    label="fictitious crack FE, %s: peak %.0f N" % (sup, ref["peak_load_N"]))
     ax[2].set_xlabel("deflection [mm]")
     ax[2].set_ylabel("load [N]")
     ax[2].set_title("notched beam (Petersson), G_F = 124 J/m^2")
-    ax[2].legend(fontsize=8)
+    ax[2].legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     fig.savefig(a.out, dpi=110)
     print(a.out)
