@@ -6,7 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <numeric>
+#include <unordered_map>
+#include <vector>
 
 #include "hexdem/error.hpp"
 #include "hexdem/solver/boundary_checks.hpp"
@@ -22,6 +26,67 @@ namespace {
 /// across the lattice rows, the disks one radius off it must stay free).
 bool held_by_set(const meshing::Lattice& lattice, std::int64_t e, double radius) {
   return lattice.set_distance[static_cast<std::size_t>(e)] < (1 - 1e-6) * radius;
+}
+
+/// The parts of boundary set s: its members grouped by where their set edges lie, two members
+/// in one part when their edges' centres are within 3 (r_i + r_j) of each other (neighbouring
+/// cells along an edge lie about 2r apart; a set named on two separate edges, such as a beam's
+/// two supports, has two parts). Returns the part of each of the set's entries, numbered from 0,
+/// in `part`, and the number of parts.
+std::int32_t set_parts(const meshing::Lattice& lattice, const std::vector<double>& radius, int s,
+                       std::vector<std::int32_t>& part) {
+  const auto first = lattice.set_offset[static_cast<std::size_t>(s)];
+  const auto n = static_cast<std::size_t>(lattice.set_offset[static_cast<std::size_t>(s) + 1] - first);
+  std::vector<std::int32_t> root(n);
+  std::iota(root.begin(), root.end(), 0);
+  const auto find = [&](std::int32_t a) {
+    while (root[static_cast<std::size_t>(a)] != a) a = root[static_cast<std::size_t>(a)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(a)])];
+    return a;
+  };
+  double r_max = 0;
+  for (std::size_t k = 0; k < n; ++k)
+    r_max = std::max(r_max, radius[static_cast<std::size_t>(lattice.set_disk[static_cast<std::size_t>(first) + k])]);
+  // Grid of cells of side 6 r_max: a member's partners lie in its cell or the 8 around it.
+  const double h = 6 * r_max > 0 ? 6 * r_max : 1.0;
+  const auto cell_of = [&](std::size_t k) {
+    const auto e = static_cast<std::size_t>(first) + k;
+    return std::array<std::int64_t, 2>{static_cast<std::int64_t>(std::floor(lattice.set_cx[e] / h)),
+                                       static_cast<std::int64_t>(std::floor(lattice.set_cy[e] / h))};
+  };
+  const auto key = [](std::int64_t cx, std::int64_t cy) {
+    return static_cast<std::uint64_t>(cx) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(cy);
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> grid;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto c = cell_of(k);
+    grid[key(c[0], c[1])].push_back(static_cast<std::int32_t>(k));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto c = cell_of(k);
+    const auto ek = static_cast<std::size_t>(first) + k;
+    const double rk = radius[static_cast<std::size_t>(lattice.set_disk[ek])];
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = grid.find(key(c[0] + dx, c[1] + dy));
+        if (it == grid.end()) continue;
+        for (const std::int32_t j : it->second) {
+          const auto ej = static_cast<std::size_t>(first) + static_cast<std::size_t>(j);
+          const double rj = radius[static_cast<std::size_t>(lattice.set_disk[ej])];
+          const double d = std::hypot(lattice.set_cx[ek] - lattice.set_cx[ej], lattice.set_cy[ek] - lattice.set_cy[ej]);
+          if (d <= 3 * (rk + rj)) root[static_cast<std::size_t>(find(static_cast<std::int32_t>(k)))] = find(j);
+        }
+      }
+    }
+  }
+  part.assign(n, -1);
+  std::vector<std::int32_t> number(n, -1);
+  std::int32_t parts = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    auto& p = number[static_cast<std::size_t>(find(static_cast<std::int32_t>(k)))];
+    if (p < 0) p = parts++;
+    part[k] = p;
+  }
+  return parts;
 }
 
 /// The velocity components (kFixX, kFixY) a boundary condition holds on its disks.
@@ -89,6 +154,7 @@ void Solver::setup_boundaries() {
                                                : std::string("the set has no disks")) +
                        "; move the edge onto a lattice row ([mesh] origin) or change the radius");
     }
+    check_every_part_held(bc, s);
     if (bc.kind == BoundaryCondition::Kind::Velocity) velocity_sets_.push_back(std::move(vs));
     if (bc.kind == BoundaryCondition::Kind::Symmetry) setup_mirror_springs(bc, s);
   }
@@ -97,6 +163,43 @@ void Solver::setup_boundaries() {
     auto& d = velocity_sets_[s].disks;
     d.erase(std::remove_if(d.begin(), d.end(), [&](std::int32_t i) { return owner[i] != static_cast<std::int32_t>(s); }),
             d.end());
+  }
+}
+
+void Solver::check_every_part_held(const BoundaryCondition& bc, int s) const {
+  // A set named on separate edges (a beam's two supports) whose one part holds nothing would let
+  // the run go on with a support missing: refused like a set that holds nothing at all.
+  std::vector<std::int32_t> part;
+  const std::int32_t parts = set_parts(lattice_, model_.radius, s, part);
+  if (parts < 2) return;
+  const auto first = lattice_.set_offset[static_cast<std::size_t>(s)];
+  std::vector<std::size_t> held(static_cast<std::size_t>(parts), 0), members(static_cast<std::size_t>(parts), 0);
+  std::vector<double> nearest(static_cast<std::size_t>(parts), std::numeric_limits<double>::infinity());
+  std::vector<double> r_nearest(static_cast<std::size_t>(parts), 0), cx(static_cast<std::size_t>(parts), 0),
+      cy(static_cast<std::size_t>(parts), 0);
+  for (std::size_t k = 0; k < part.size(); ++k) {
+    const auto p = static_cast<std::size_t>(part[k]);
+    const auto e = static_cast<std::int64_t>(first) + static_cast<std::int64_t>(k);
+    const auto ue = static_cast<std::size_t>(e);
+    const auto i = static_cast<std::size_t>(lattice_.set_disk[ue]);
+    ++members[p];
+    cx[p] += lattice_.set_cx[ue];
+    cy[p] += lattice_.set_cy[ue];
+    if (held_by_set(lattice_, e, model_.radius[i])) ++held[p];
+    if (lattice_.set_distance[ue] < nearest[p]) {
+      nearest[p] = lattice_.set_distance[ue];
+      r_nearest[p] = model_.radius[i];
+    }
+  }
+  for (std::size_t p = 0; p < static_cast<std::size_t>(parts); ++p) {
+    if (held[p] > 0) continue;
+    const double n = static_cast<double>(members[p]);
+    throw InputError(bc.where + ": boundary set '" + bc.set + "' holds no disk on its part near (" + fmt(cx[p] / n) +
+                     ", " + fmt(cy[p] / n) + ") m (one of its " + std::to_string(parts) +
+                     " separate parts): the nearest disk centre there lies " + fmt(nearest[p]) +
+                     " m from the edge, and a condition acts on disks whose centre lies within their radius (" +
+                     fmt(r_nearest[p]) + " m) of it; move the edge onto a lattice row ([mesh] origin), widen it or "
+                     "change the radius");
   }
 }
 

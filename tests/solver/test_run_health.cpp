@@ -231,6 +231,26 @@ TEST(RunHealth, AConditionThatSelectsNoDiskIsRefused) {
   EXPECT_EQ(solver_error(block_case("[[boundary]]\nset = \"bottom\"\ntype = \"fixed\"\n")), "");
 }
 
+TEST(RunHealth, AConditionOneOfWhosePartsHoldsNoDiskIsRefused) {
+  // One set on two separate edges, as a beam's two supports: the bottom edge lies on a row and
+  // holds its disks, the top one lies between rows and holds none. The run would go on with
+  // one support missing; it is refused, naming the part.
+  std::string text = block_case("[[boundary]]\nset = \"ends\"\ntype = \"roller\"\ncomponent = \"y\"\n");
+  for (const std::string name : {"bottom", "top"}) {
+    const std::string from = name + " = \"" + name + "\"";
+    text.replace(text.find(from), from.size(), name + " = \"ends\"");
+  }
+  const std::string e = solver_error(text);
+  EXPECT_NE(e.find("boundary set 'ends' holds no disk on its part near ("), std::string::npos) << e;
+  EXPECT_NE(e.find(", 0.03) m (one of its 2 separate parts): the nearest disk centre there lies 0.0005551 m"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  // Both edges on rows (the sides of the plate, x = 0 and 20 mm): two parts, both held, accepted.
+  text = block_case("[[boundary]]\nset = \"side\"\ntype = \"roller\"\ncomponent = \"x\"\n");
+  EXPECT_EQ(solver_error(text), "");
+}
+
 TEST(RunHealth, ALoadThatSelectsNoDiskIsRefused) {
   const std::string e = solver_error(block_case(
       "[[load]]\ntype = \"pressure\"\nset = \"top\"\np0 = 1e6\nfunction = { type = \"constant\" }\n"

@@ -208,6 +208,8 @@ private:
   void setup_nonlocal_strain();
   void setup_boundaries();
   void setup_mirror_springs(const BoundaryCondition& bc, int set);
+  /// Throws an InputError when a part of the set (a separate edge of it) holds no disk.
+  void check_every_part_held(const BoundaryCondition& bc, int set) const;
   void setup_loads();
   /// Resolves `[output] reactions` into reaction_sets_ (after the boundaries and loads).
   void setup_reactions();
