@@ -35,45 +35,35 @@ bool held_by_set(const meshing::Lattice& lattice, std::int64_t e, double radius)
 /// in `part`, and the number of parts.
 std::int32_t set_parts(const meshing::Lattice& lattice, const std::vector<double>& radius, int s,
                        std::vector<std::int32_t>& part) {
-  const auto first = lattice.set_offset[static_cast<std::size_t>(s)];
-  const auto n = static_cast<std::size_t>(lattice.set_offset[static_cast<std::size_t>(s) + 1] - first);
-  std::vector<std::int32_t> root(n);
-  std::iota(root.begin(), root.end(), 0);
-  const auto find = [&](std::int32_t a) {
-    while (root[static_cast<std::size_t>(a)] != a) a = root[static_cast<std::size_t>(a)] = root[static_cast<std::size_t>(root[static_cast<std::size_t>(a)])];
+  const auto first = static_cast<std::size_t>(lattice.set_offset[static_cast<std::size_t>(s)]);
+  const auto n = static_cast<std::size_t>(lattice.set_offset[static_cast<std::size_t>(s) + 1]) - first;
+  const auto r_of = [&](std::size_t k) { return radius[static_cast<std::size_t>(lattice.set_disk[first + k])]; };
+  std::vector<std::size_t> root(n);
+  std::iota(root.begin(), root.end(), std::size_t{0});
+  const auto find = [&](std::size_t a) {
+    while (root[a] != a) a = root[a] = root[root[a]];
     return a;
   };
   double r_max = 0;
-  for (std::size_t k = 0; k < n; ++k)
-    r_max = std::max(r_max, radius[static_cast<std::size_t>(lattice.set_disk[static_cast<std::size_t>(first) + k])]);
+  for (std::size_t k = 0; k < n; ++k) r_max = std::max(r_max, r_of(k));
   // Grid of cells of side 6 r_max: a member's partners lie in its cell or the 8 around it.
-  const double h = 6 * r_max > 0 ? 6 * r_max : 1.0;
-  const auto cell_of = [&](std::size_t k) {
-    const auto e = static_cast<std::size_t>(first) + k;
-    return std::array<std::int64_t, 2>{static_cast<std::int64_t>(std::floor(lattice.set_cx[e] / h)),
-                                       static_cast<std::int64_t>(std::floor(lattice.set_cy[e] / h))};
-  };
-  const auto key = [](std::int64_t cx, std::int64_t cy) {
+  const double h = r_max > 0 ? 6 * r_max : 1.0;
+  const auto cell = [&](std::size_t k, std::int64_t dx, std::int64_t dy) {
+    const auto cx = static_cast<std::int64_t>(std::floor(lattice.set_cx[first + k] / h)) + dx;
+    const auto cy = static_cast<std::int64_t>(std::floor(lattice.set_cy[first + k] / h)) + dy;
     return static_cast<std::uint64_t>(cx) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(cy);
   };
-  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> grid;
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+  for (std::size_t k = 0; k < n; ++k) grid[cell(k, 0, 0)].push_back(k);
   for (std::size_t k = 0; k < n; ++k) {
-    const auto c = cell_of(k);
-    grid[key(c[0], c[1])].push_back(static_cast<std::int32_t>(k));
-  }
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto c = cell_of(k);
-    const auto ek = static_cast<std::size_t>(first) + k;
-    const double rk = radius[static_cast<std::size_t>(lattice.set_disk[ek])];
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = grid.find(key(c[0] + dx, c[1] + dy));
+        const auto it = grid.find(cell(k, dx, dy));
         if (it == grid.end()) continue;
-        for (const std::int32_t j : it->second) {
-          const auto ej = static_cast<std::size_t>(first) + static_cast<std::size_t>(j);
-          const double rj = radius[static_cast<std::size_t>(lattice.set_disk[ej])];
-          const double d = std::hypot(lattice.set_cx[ek] - lattice.set_cx[ej], lattice.set_cy[ek] - lattice.set_cy[ej]);
-          if (d <= 3 * (rk + rj)) root[static_cast<std::size_t>(find(static_cast<std::int32_t>(k)))] = find(j);
+        for (const std::size_t j : it->second) {
+          const double d = std::hypot(lattice.set_cx[first + k] - lattice.set_cx[first + j],
+                                      lattice.set_cy[first + k] - lattice.set_cy[first + j]);
+          if (d <= 3 * (r_of(k) + r_of(j))) root[find(k)] = find(j);
         }
       }
     }
@@ -82,7 +72,7 @@ std::int32_t set_parts(const meshing::Lattice& lattice, const std::vector<double
   std::vector<std::int32_t> number(n, -1);
   std::int32_t parts = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    auto& p = number[static_cast<std::size_t>(find(static_cast<std::int32_t>(k)))];
+    std::int32_t& p = number[find(k)];
     if (p < 0) p = parts++;
     part[k] = p;
   }
