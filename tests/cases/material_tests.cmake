@@ -57,6 +57,14 @@ if(NOT HEXDEM_SANITIZE)
             --compare ${HEXDEM_TEST_WORK_DIR}/material_tests/notched_beam.json --work-tolerance 10)
   set_tests_properties(case_material_notched_beam_reference PROPERTIES LABELS "validation" TIMEOUT 300
     FIXTURES_REQUIRED material_beam_run)
+  # The beam at 10 degrees (r = 4 mm): beam_angles.py moves the left hinge by r/4 = 1 mm, the
+  # first place where hexdem check finds a disk within r of it, and the run completes.
+  add_test(NAME case_material_beam_angles
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/beam_angles.py --angles 10
+            --radii 0.004 --out ${HEXDEM_TEST_WORK_DIR}/material_tests/beam_angles --jobs 1 --hexdem $<TARGET_FILE:hexdem>)
+  set_tests_properties(case_material_beam_angles PROPERTIES LABELS "validation" TIMEOUT 900
+    ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}"
+    PASS_REGULAR_EXPRESSION "a10_r0.004 +supports moved \\+1.00 / \\+0.00 mm \\(span 1999.00 mm\\) kind=notched_beam")
   # Bad arguments: one line naming the option and the value, exit 2.
   add_test(NAME case_material_fictitious_crack_bad_h
     COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/fictitious_crack.py --h 3)
