@@ -17,7 +17,6 @@ largest deviation from the mean of every result.
 Exit 1 if a run or its analysis fails or no placement passes the check, 2 on bad arguments.
 """
 import argparse
-import concurrent.futures
 import itertools
 import json
 import os
@@ -26,6 +25,8 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from run_study import run_all, run_case  # noqa: E402
 REPO = os.path.dirname(os.path.dirname(HERE))
 CASE = os.path.join(HERE, "notched_beam.toml")
 LEFT = "[-1000.1, 0.0], [-999.9, 0.0]"
@@ -86,23 +87,13 @@ def run_one(args, base, angle, radius):
     path, dl, dr, err = place(args, base, angle, radius, folder)
     if err:
         return tag, None, err
-    out = os.path.join(folder, "run")
-    r = subprocess.run([args.hexdem, "run", path, "--out", out, "--threads", "1", "--quiet",
-                        "--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius],
-                       capture_output=True, text=True)
-    if r.returncode not in (0, 3):
-        return tag, None, "run failed (exit %d): %s" % (r.returncode, r.stderr.strip().splitlines()[-1:] or "")
-    js = os.path.join(folder, "notched_beam.json")
-    a = subprocess.run([sys.executable, os.path.join(HERE, "analyse.py"), "notched_beam",
-                        os.path.join(out, "notched_beam.pvd"), "--json", js], capture_output=True, text=True)
-    if a.returncode != 0:
-        return tag, None, "analysis failed: " + a.stderr.strip()
-    with open(js) as f:
-        res = json.load(f)
+    res, line = run_case(args.hexdem, path, "notched_beam", os.path.join(folder, "run"),
+                         ["mesh.angle=%g" % angle, "mesh.radius=%g" % radius])
+    if res is None:
+        return tag, None, line
     res["support_shift_mm"] = [dl, dr]
     res["span_mm"] = 2000.0 + dr - dl
-    note = " " + a.stderr.strip() if a.stderr.strip() else ""
-    return tag, res, "supports moved %+.2f / %+.2f mm (span %.2f mm) %s%s" % (dl, dr, res["span_mm"], a.stdout.strip(), note)
+    return tag, res, "supports moved %+.2f / %+.2f mm (span %.2f mm) %s" % (dl, dr, res["span_mm"], line)
 
 
 def main(argv):
@@ -126,16 +117,7 @@ def main(argv):
         base = f.read()
     if LEFT not in base or RIGHT not in base:
         fail("%s: the support edges %s and %s are not in the outline" % (CASE, LEFT, RIGHT), 1)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        results = list(pool.map(lambda c: run_one(a, base, *c), itertools.product(angles, radii)))
-    ok = True
-    rows = []
-    for tag, res, line in results:
-        print("%-16s %s" % (tag, line))
-        if res is None:
-            ok = False
-        else:
-            rows.append(res)
+    ok, rows = run_all(a.jobs, lambda c: run_one(a, base, *c), itertools.product(angles, radii))
     summary = {}
     for radius in radii:
         group = [r for r in rows if r["radius"] == radius]

@@ -32,6 +32,39 @@ def numbers(text):
     return [float(v) for v in text.split(",")] if text else [None]
 
 
+def run_case(hexdem, case, kind, out, sets):
+    """`hexdem run CASE --set ...` into OUT, then analyse.py; returns (result or None, line)."""
+    cmd = [hexdem, "run", case, "--out", out, "--threads", "1", "--quiet"]
+    for s in sets:
+        cmd += ["--set", s]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode not in (0, 3):  # 3: completed with a warning (analysed, and reported)
+        return None, "run failed (exit %d): %s" % (r.returncode, r.stderr.strip().splitlines()[-1:] or "")
+    js = out + ".json"
+    a = subprocess.run([sys.executable, os.path.join(HERE, "analyse.py"), kind,
+                        os.path.join(out, kind + ".pvd"), "--json", js], capture_output=True, text=True)
+    if a.returncode != 0:
+        return None, "analysis failed: " + a.stderr.strip()
+    with open(js) as f:
+        return json.load(f), a.stdout.strip() + (" " + a.stderr.strip() if a.stderr.strip() else "")
+
+
+def run_all(jobs, fn, combos):
+    """fn(combo) -> (tag, result or None, line) over the combos on `jobs` workers; prints one
+    line per run and returns (every run succeeded, the results)."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        results = list(pool.map(fn, combos))
+    ok = True
+    rows = []
+    for tag, res, line in results:
+        print("%-16s %s" % (tag, line))
+        if res is None:
+            ok = False
+        else:
+            rows.append(res)
+    return ok, rows
+
+
 def run_one(args, angle, radius, seed):
     tag = "a%g" % angle if angle is not None else "a-"
     tag += "_r%g" % radius if radius is not None else ""
@@ -44,19 +77,8 @@ def run_one(args, angle, radius, seed):
         sets.append("mesh.radius=%g" % radius)
     if seed is not None:
         sets.append("random.seed=%d" % seed)
-    cmd = [args.hexdem, "run", os.path.join(HERE, args.kind + ".toml"), "--out", out, "--threads", "1", "--quiet"]
-    for s in sets:
-        cmd += ["--set", s]
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode not in (0, 3):  # 3: completed with a warning (analysed, and reported)
-        return tag, None, "run failed (exit %d): %s" % (r.returncode, r.stderr.strip().splitlines()[-1:] or "")
-    js = out + ".json"
-    a = subprocess.run([sys.executable, os.path.join(HERE, "analyse.py"), args.kind,
-                        os.path.join(out, args.kind + ".pvd"), "--json", js], capture_output=True, text=True)
-    if a.returncode != 0:
-        return tag, None, "analysis failed: " + a.stderr.strip()
-    with open(js) as f:
-        return tag, json.load(f), a.stdout.strip() + (" " + a.stderr.strip() if a.stderr.strip() else "")
+    res, line = run_case(args.hexdem, os.path.join(HERE, args.kind + ".toml"), args.kind, out, sets)
+    return tag, res, line
 
 
 def main(argv):
@@ -79,16 +101,7 @@ def main(argv):
     args = ap.parse_args(argv)
     combos = list(itertools.product(numbers(args.angles), numbers(args.radii),
                                     [int(s) if s is not None else None for s in numbers(args.seeds)]))
-    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        results = list(pool.map(lambda c: run_one(args, *c), combos))
-    ok = True
-    rows = []
-    for tag, res, line in results:
-        print("%-16s %s" % (tag, line))
-        if res is None:
-            ok = False
-        else:
-            rows.append(res)
+    ok, rows = run_all(args.jobs, lambda c: run_one(args, *c), combos)
     summary = {}
     if rows:
         for key in [k for k, v in rows[0].items() if isinstance(v, (int, float)) and not isinstance(v, bool)
