@@ -36,8 +36,8 @@ measures with its `load_point` probe.
 Checks (exit 1 with --check when one fails): the energy balance W = U + D at every point
 (external work by the trapezoid rule over the points, elastic energy by Clapeyron's theorem,
 dissipation integrated from the cohesive law) within 1 % of W; no node closes again after it
-opened (the law has no unloading branch here); no closed node above the tip carries more than
-f_t; the top node stays in compression.
+opened (the law has no unloading branch here); no closed node (above the tip, or pressed shut
+below it) carries more than f_t; the top node stays in compression.
 
 --compare RUN.json ... reads `run_study.py --json` files of hexdem notched-beam runs and
 prints, per run, the peak, the work up to --compare-until (default 1 mm) against the
@@ -47,6 +47,7 @@ reference's, and the mean and mean absolute load differences over 0..--compare-u
 Exit 2 on bad arguments or unreadable files (one line naming the file or option and value).
 """
 import argparse
+import importlib.util
 import json
 import math
 import os
@@ -256,7 +257,6 @@ def trace(m, end_mm, contact):
             else:
                 fail("no contact set of the loading strip is in equilibrium at tip %d" % tip, 1)
         state, delta, ub, f, w = sol["state"], sol["delta"], sol["ub"], sol["f"], sol["w"]
-        u = ub[:n]
         r = f[:n]
         checks["active_set_iterations"] = max(checks["active_set_iterations"], sol["iterations"])
         # A closed node above the tip over f_t: the crack reaches it first (at the notch's face
@@ -306,12 +306,6 @@ def trace(m, end_mm, contact):
     return points, checks
 
 
-def interp_load(points, defl):
-    x = np.array([p["deflection_mm"] for p in points])
-    y = np.array([p["load_N"] for p in points])
-    return np.interp(defl, x, y)
-
-
 def work_until(defl, load, x_end):
     """Trapezoid integral of load over deflection from 0 to x_end [N mm]."""
     keep = defl <= x_end
@@ -325,7 +319,10 @@ def read_runs(path):
     try:
         runs = json.load(open(path))["runs"]
         for r in runs:
-            r["curve"]["deflection_mm"], r["curve"]["load_N"], r["peak_load_N"], r["radius"]  # noqa: B018
+            for key in ("peak_load_N", "radius", "deflection_at_peak_mm"):
+                float(r[key])
+            if len(r["curve"]["deflection_mm"]) != len(r["curve"]["load_N"]):
+                raise ValueError("the curve's columns differ in length")
     except (OSError, ValueError, KeyError, TypeError) as e:
         fail("%s: not a run_study.py --json file of notched-beam runs (%s: %s)" % (path, type(e).__name__, e))
     return runs
@@ -412,9 +409,7 @@ def main(argv):
     if not 0 < until <= end:
         fail("--compare-until: must lie in (0, --end]: %r" % a.compare_until)
     loaded = [(p, read_runs(p)) for p in a.compare]
-    try:
-        import scipy  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("scipy") is None:
         fail("scipy is needed (Debian: apt-get install python3-scipy)")
 
     m = build(h, a.supports == "point")
