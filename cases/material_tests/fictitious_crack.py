@@ -74,9 +74,10 @@ def fail(msg, code=2):
     sys.exit(code)
 
 
-def q4_stiffness(a, b, t):
-    """Plane-stress bilinear rectangle a x b [mm], thickness t: 8 x 8 [N/mm]."""
-    d = E_MPA / (1.0 - NU * NU) * np.array([[1.0, NU, 0.0], [NU, 1.0, 0.0], [0.0, 0.0, 0.5 * (1.0 - NU)]])
+def q4_stiffness(a, b, t, e_mpa=E_MPA, nu=NU):
+    """Plane-stress bilinear rectangle a x b [mm], thickness t [mm], Young's modulus e_mpa [MPa],
+    Poisson's ratio nu: 8 x 8 [N/mm]."""
+    d = e_mpa / (1.0 - nu * nu) * np.array([[1.0, nu, 0.0], [nu, 1.0, 0.0], [0.0, 0.0, 0.5 * (1.0 - nu)]])
     ke = np.zeros((8, 8))
     g = 1.0 / math.sqrt(3.0)
     xi_n = np.array([-1.0, 1.0, 1.0, -1.0])
@@ -96,44 +97,41 @@ def q4_stiffness(a, b, t):
     return ke
 
 
-def build(h, point_supports=False):
-    """Mesh, stiffness and the condensed crack problem for element side h [mm].
-
-    point_supports: the beam rests on one node at x = -1000 mm (a hinge, as the case) instead of
-    a 20 mm strip, every node of which is held vertically (which resists the beam's rotation)."""
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
-
-    nx = int(round(LENGTH_HALF / h))
-    n1 = int(round(NOTCH_DEPTH / h))
-    n2 = int(round((DEPTH - NOTCH_DEPTH) / h))
-    xs = np.linspace(-LENGTH_HALF, 0.0, nx + 1)
-    ys = np.concatenate([np.linspace(0.0, NOTCH_DEPTH, n1 + 1), np.linspace(NOTCH_DEPTH, DEPTH, n2 + 1)[1:]])
-    ny = len(ys) - 1
+def grid_mesh(xs, ys, keep):
+    """Bilinear rectangles on the grid xs x ys [mm] (ascending), those for which keep(x0, x1, y0,
+    y1) holds; returns their nodes (renumbered from 0), sizes and the nodes' coordinates."""
+    nx, ny = len(xs) - 1, len(ys) - 1
     nid = lambda ix, iy: iy * (nx + 1) + ix  # noqa: E731
     elems = []
     sizes = []
     for iy in range(ny):
         for ix in range(nx):
-            if xs[ix] >= -NOTCH_HALF_WIDTH - 1e-9 and ys[iy + 1] <= NOTCH_DEPTH + 1e-9:
-                continue  # inside the notch
+            if not keep(xs[ix], xs[ix + 1], ys[iy], ys[iy + 1]):
+                continue
             elems.append((nid(ix, iy), nid(ix + 1, iy), nid(ix + 1, iy + 1), nid(ix, iy + 1)))
             sizes.append((xs[ix + 1] - xs[ix], ys[iy + 1] - ys[iy]))
     elems = np.array(elems)
     used = np.unique(elems)
     renum = -np.ones((nx + 1) * (ny + 1), dtype=int)
     renum[used] = np.arange(len(used))
-    elems = renum[elems]
-    nn = len(used)
-    px = xs[used % (nx + 1)]
-    py = ys[used // (nx + 1)]
+    return renum[elems], sizes, xs[used % (nx + 1)], ys[used // (nx + 1)]
 
+
+def condense(mesh, thickness, crack, strip, held_y, e_mpa=E_MPA, nu=NU):
+    """The crack problem on a grid_mesh: the stiffness condensed onto the x of the crack's nodes
+    (crack, ordered along the crack; its last node's x is held) and the y of the strip's nodes,
+    with the y of held_y held. Returns the model dict of trace() without the material."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    elems, sizes, px, py = mesh
+    nn = len(px)
     rows, cols, vals = [], [], []
     cache = {}
     for e, (a, b) in zip(elems, sizes):
         key = (round(a, 9), round(b, 9))
         if key not in cache:
-            cache[key] = q4_stiffness(a, b, THICKNESS)
+            cache[key] = q4_stiffness(a, b, thickness, e_mpa, nu)
         dofs = np.empty(8, dtype=int)
         dofs[0::2] = 2 * e
         dofs[1::2] = 2 * e + 1
@@ -141,17 +139,10 @@ def build(h, point_supports=False):
         cols.append(np.tile(dofs, 8))
         vals.append(cache[key].ravel())
     k = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(2 * nn, 2 * nn))
-
-    tol = 1e-6
-    crack = np.where((np.abs(px) < tol) & (py >= NOTCH_DEPTH - tol))[0]
-    crack = crack[np.argsort(py[crack])]
     top = crack[-1]
-    crack_free = crack[:-1]                      # the top node's x is held
-    lo, hi = (0.5 * (SUPPORT[0] + SUPPORT[1]),) * 2 if point_supports else SUPPORT
-    support = np.where((py < tol) & (px >= lo - tol) & (px <= hi + tol))[0]
-    load = np.where((np.abs(py - DEPTH) < tol) & (px >= -LOAD_HALF - tol))[0]
-    bdofs = np.concatenate([2 * crack_free, 2 * load + 1])   # the condensed degrees of freedom
-    fixed = np.concatenate([2 * support + 1, [2 * top]])
+    crack_free = crack[:-1]                      # the end node's x is held
+    bdofs = np.concatenate([2 * crack_free, 2 * strip + 1])   # the condensed degrees of freedom
+    fixed = np.concatenate([2 * held_y + 1, [2 * top]])
     special = np.zeros(2 * nn, dtype=bool)
     special[bdofs] = special[fixed] = True
     i = np.where(~special)[0]
@@ -159,32 +150,100 @@ def build(h, point_supports=False):
     kib = k[i][:, bdofs].toarray()
     x = spla.splu(k[i][:, i].tocsc()).solve(kib)
     s = k[bdofs][:, bdofs].toarray() - k[bdofs][:, i] @ x
-    # The top node's x force (held by symmetry; it must stay in compression).
+    # The end node's x force (held by symmetry; it must stay in compression).
     top_row = k[2 * top][:, bdofs].toarray().ravel() - np.asarray(k[2 * top][:, i] @ x).ravel()
-
     gaps = np.diff(py[crack])
     area = np.zeros(len(crack_free))      # tributary area [mm^2]
-    area += 0.5 * gaps * THICKNESS
-    area[1:] += 0.5 * gaps[:-1] * THICKNESS
-    return dict(h=h, s=s, top_row=top_row, y=py[crack_free], area=area, strip_x=px[load],
-                nodes=nn, elements=len(elems))
+    area += 0.5 * gaps * thickness
+    area[1:] += 0.5 * gaps[:-1] * thickness
+    return dict(s=s, top_row=top_row, y=py[crack_free], area=area, strip_x=px[strip], nodes=nn,
+                elements=len(elems))
+
+
+def number(option, text, fail_with):
+    """An option's value as a float; fail_with(message) when it is not a number."""
+    try:
+        return float(text)
+    except ValueError:
+        fail_with("%s: not a number: %r" % (option, text))
+
+
+def tolerance(option, text, compare, fail_with):
+    """A --...-tolerance option [%]: None when absent; fail_with(message) unless it is a positive
+    number given with --compare files."""
+    if text is None:
+        return None
+    value = number(option, text, fail_with)
+    if not value > 0 or not compare:
+        fail_with("%s: needs a positive number and --compare files: %r" % (option, text))
+    return value
+
+
+def exit_code(failed, check):
+    """Prints the failed checks on stderr; 1 if there are any and check is set, else 0."""
+    if failed:
+        print("check failed: " + "; ".join(failed), file=sys.stderr)
+    return 1 if failed and check else 0
+
+
+def failed_checks(checks, end_name):
+    """The names of trace()'s checks that fail (end_name: the held end node)."""
+    failed = []
+    if checks["energy_balance"] > 1e-2:
+        failed.append("energy balance")
+    if checks["reclosing"] > 1e-9:
+        failed.append("a node closed again")
+    if checks["closed_over_ft"] > 1e-6:
+        failed.append("a closed node carries more than f_t")
+    if checks["top_in_tension"]:
+        failed.append("the held %s is in tension" % end_name)
+    return failed
+
+
+def build(h, point_supports=False):
+    """Mesh, stiffness and the condensed crack problem for element side h [mm].
+
+    point_supports: the beam rests on one node at x = -1000 mm (a hinge, as the case) instead of
+    a 20 mm strip, every node of which is held vertically (which resists the beam's rotation)."""
+    nx = int(round(LENGTH_HALF / h))
+    n1 = int(round(NOTCH_DEPTH / h))
+    n2 = int(round((DEPTH - NOTCH_DEPTH) / h))
+    xs = np.linspace(-LENGTH_HALF, 0.0, nx + 1)
+    ys = np.concatenate([np.linspace(0.0, NOTCH_DEPTH, n1 + 1), np.linspace(NOTCH_DEPTH, DEPTH, n2 + 1)[1:]])
+    # Every rectangle but those inside the notch.
+    mesh = grid_mesh(xs, ys, lambda x0, x1, y0, y1: not (x0 >= -NOTCH_HALF_WIDTH - 1e-9 and y1 <= NOTCH_DEPTH + 1e-9))
+    px, py = mesh[2], mesh[3]
+    tol = 1e-6
+    crack = np.where((np.abs(px) < tol) & (py >= NOTCH_DEPTH - tol))[0]
+    crack = crack[np.argsort(py[crack])]
+    lo, hi = (0.5 * (SUPPORT[0] + SUPPORT[1]),) * 2 if point_supports else SUPPORT
+    support = np.where((py < tol) & (px >= lo - tol) & (px <= hi + tol))[0]
+    load = np.where((np.abs(py - DEPTH) < tol) & (px >= -LOAD_HALF - tol))[0]
+    return dict(condense(mesh, THICKNESS, crack, load, support), h=h, ft=FT_MPA, gf=GF_N_MM, thickness=THICKNESS,
+                strip_width=2.0 * LOAD_HALF)
 
 
 def trace(m, end_mm, contact):
     """The crack advanced node by node; returns the curve and the checks.
 
+    m is a condensed model (build, or brazilian_fe.py's): the crack's nodes on the symmetry line
+    x = 0 of a mesh on x <= 0 ("y", their tributary "area" [mm^2], the condensed stiffness "s"
+    over their x and the strip's y degrees of freedom, "top_row" of the held end node), the
+    strip's nodes ("strip_x"), and the material and section ("ft" [MPa], "gf" [N/mm],
+    "thickness" [mm], "strip_width" [mm]).
+
     contact = False: the loading strip is bonded (every strip node at -delta, pulling or
     pushing, as hexdem's velocity condition on the `load` set); True: it only pushes (a node
     whose force would pull lifts off, a lifted node below the strip is pressed again).
     """
-    ft = FT_MPA
-    wc = 2.0 * GF_N_MM / ft               # [mm]
+    ft, gf, thickness = m["ft"], m["gf"], m["thickness"]
+    wc = 2.0 * gf / ft                    # [mm]
     s, area = m["s"], m["area"]
     n = len(area)
     ns = len(m["strip_x"])
     kco = 2.0 * area * ft / wc            # cohesive stiffness per node (opening = -2 u)
     points = [dict(deflection_mm=0.0, load_N=0.0, elastic_J=0.0, dissipated_J=0.0, tip_mm=float(m["y"][0]),
-                   strip_contact_mm=2.0 * LOAD_HALF, cracked_mm=0.0, free_mm=0.0)]
+                   strip_contact_mm=m["strip_width"], cracked_mm=0.0, free_mm=0.0)]
     # Every crack node below the tip is cohesive (softening, 0 <= w <= w_c), free (w > w_c, no
     # traction) or shut (pressed closed, u = 0, its stress <= f_t); every strip node is pressed
     # (u = -delta) or lifted (no force, above the strip). An active set, iterated until every
@@ -278,15 +337,15 @@ def trace(m, end_mm, contact):
         p_half = -float(f[n:][pressed].sum())
         u_half = 0.5 * float(f @ ub)                              # Clapeyron [N mm]
         coh = (np.arange(n) < tip) & (state == COH)
-        g = np.where(free, GF_N_MM, ft * (w - w * w / (2.0 * wc))) * area
+        g = np.where(free, gf, ft * (w - w * w / (2.0 * wc))) * area
         g = np.where(coh | free, g, 0.0)
         xs = m["strip_x"][pressed]
         points.append(dict(deflection_mm=delta, load_N=2.0 * p_half, elastic_J=2.0 * u_half * 1e-3,
                            dissipated_J=float(g.sum()) * 1e-3, tip_mm=float(m["y"][tip]),
                            strip_contact_mm=2.0 * float(-xs.min()) if len(xs) else 0.0,
                            # crack lengths: opened (w > 0) and stress-free (w >= w_c) [mm]
-                           cracked_mm=float(np.sum(area[coh | free])) / THICKNESS,
-                           free_mm=float(np.sum(area[free])) / THICKNESS))
+                           cracked_mm=float(np.sum(area[coh | free])) / thickness,
+                           free_mm=float(np.sum(area[free])) / thickness))
         if delta < points[-2]["deflection_mm"]:
             checks["snap_back"] = True
         if delta > end_mm:
@@ -378,34 +437,18 @@ def main(argv):
                     help="compare the curves from 0 to this deflection [mm] (default 1, before the crack nears the "
                          "loading strip)")
     a = ap.parse_args(argv)
-    try:
-        h = float(a.h)
-    except ValueError:
-        fail("--h: not a number: %r" % a.h)
+    h = number("--h", a.h, fail)
     if not (h > 0 and abs(5.0 / h - round(5.0 / h)) < 1e-9 and 5.0 / h <= 64):
         fail("--h: %r mm does not divide the notch's half width of 5 mm (use 5, 2.5, 1.25 or 0.625)" % a.h)
-    try:
-        end = float(a.end)
-    except ValueError:
-        fail("--end: not a number: %r" % a.end)
+    end = number("--end", a.end, fail)
     if not end > 0:
         fail("--end: must be positive: %r" % a.end)
-    tol_pct = None
-    if a.work_tolerance is not None:
-        try:
-            tol_pct = float(a.work_tolerance)
-        except ValueError:
-            fail("--work-tolerance: not a number: %r" % a.work_tolerance)
-        if not tol_pct > 0 or not a.compare:
-            fail("--work-tolerance: needs a positive number and --compare files: %r" % a.work_tolerance)
+    tol_pct = tolerance("--work-tolerance", a.work_tolerance, a.compare, fail)
     if a.supports not in ("strip", "point"):
         fail("--supports: %r is neither 'strip' nor 'point'" % a.supports)
     if a.strip not in ("bonded", "contact"):
         fail("--strip: %r is neither 'bonded' nor 'contact'" % a.strip)
-    try:
-        until = float(a.compare_until)
-    except ValueError:
-        fail("--compare-until: not a number: %r" % a.compare_until)
+    until = number("--compare-until", a.compare_until, fail)
     if not 0 < until <= end:
         fail("--compare-until: must lie in (0, --end]: %r" % a.compare_until)
     loaded = [(p, read_runs(p)) for p in a.compare]
@@ -434,15 +477,7 @@ def main(argv):
           "(<= 1e-6), top in compression: %s, snap-back: %s"
           % (checks["energy_balance"], checks["reclosing"], checks["closed_over_ft"],
              "no" if checks["top_in_tension"] else "yes", "yes" if checks["snap_back"] else "no"))
-    failed = []
-    if checks["energy_balance"] > 1e-2:
-        failed.append("energy balance")
-    if checks["reclosing"] > 1e-9:
-        failed.append("a node closed again")
-    if checks["closed_over_ft"] > 1e-6:
-        failed.append("a closed node above the tip carries more than f_t")
-    if checks["top_in_tension"]:
-        failed.append("the held top node is in tension")
+    failed = failed_checks(checks, "top node")
     if a.json:
         out = dict(h_mm=h, strip=a.strip, supports=a.supports, peak_load_N=peak["load_N"], deflection_at_peak_mm=peak["deflection_mm"],
                    work_of_fracture_J_m2=last["work_J"] / lig_m2, dissipated_over_ligament_J_m2=last["dissipated_J"] / lig_m2,
@@ -455,11 +490,7 @@ def main(argv):
             if tol_pct is not None and abs(ratio - 1.0) * 100.0 > tol_pct:
                 failed.append("a run's work up to %.2f mm is %.1f %% off the reference's (tolerance %g %%)"
                               % (until, (ratio - 1.0) * 100.0, tol_pct))
-    if failed:
-        print("check failed: " + "; ".join(failed), file=sys.stderr)
-        if a.check:
-            return 1
-    return 0
+    return exit_code(failed, a.check)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Figure of the virtual material tests (cases/material_tests/README.md).
 
-    figures.py OUT.png --tension T.json --brazilian B.json --beam BEAM.json [BEAM2.json ...]
-               [--beam-reference FC.json [FC2.json ...]]
+    figures.py OUT.png --tension T.json --brazilian B.json [--brazilian-reference BFE.json]
+               --beam BEAM.json [BEAM2.json ...] [--beam-reference FC.json [FC2.json ...]]
 
 T.json and B.json are `run_study.py --json` files of the angle studies, BEAM*.json those of
-notched-beam runs (one curve per run). Left: the tension test's stress-displacement curves at
-every lattice angle; middle: the Brazilian discs' open bonds (broken, or D > 0.9) at the split,
-one colour per angle; right: the notched beam's load-deflection curves, with the
+notched-beam runs (one curve per run). Top left: the tension test's stress-displacement curves
+at every lattice angle; top right: the Brazilian discs' splitting stress 2P/(pi D t) against
+time, with the stresses of `brazilian_fe.py --json BFE.json` at which its crack starts and at
+which its cohesive zone spans the middle half of the diameter; bottom left: the discs' open
+bonds (broken, or D > 0.9) when their crack spans the middle half of the loaded diameter, one
+colour per angle; bottom right: the notched beam's load-deflection curves, with the
 fictitious-crack finite-element curves of `fictitious_crack.py --json FC.json` when given.
 """
 import argparse
@@ -26,6 +29,7 @@ def main(argv):
     ap.add_argument("out")
     ap.add_argument("--tension", required=True)
     ap.add_argument("--brazilian", required=True)
+    ap.add_argument("--brazilian-reference", help="brazilian_fe.py --json file")
     ap.add_argument("--beam", nargs="+", required=True)
     ap.add_argument("--beam-reference", nargs="+", default=[], help="fictitious_crack.py --json files")
     a = ap.parse_args(argv)
@@ -34,7 +38,8 @@ def main(argv):
     import matplotlib.pyplot as plt
     from analyse import last_frame  # noqa: E402
 
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.6))
+    fig, axes = plt.subplots(2, 2, figsize=(13, 10))
+    ax = [axes[0][0], axes[1][0], axes[1][1], axes[0][1]]  # tension, splits, beam, Brazilian curves
     tension = json.load(open(a.tension))["runs"]
     for r in sorted(tension, key=lambda r: r["angle"]):
         c = r["curve"]
@@ -55,17 +60,32 @@ def main(argv):
             sys.exit("figures.py: %s: no series of the %g-degree run under %s (looked for %s)"
                      % (a.brazilian, r["angle"], os.path.join(study_dir, "brazilian"), ", ".join(tags)))
         pvd = found[0]
-        f = last_frame(pvd, r["split_frame_time"])
+        f = last_frame(pvd, r["split_span_time"])
         mid = f["mid"][f["opened"]]
         ax[1].scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3,
-                      label="%g deg: %.2f MPa, %.1f r" % (r["angle"], r["split_strength_MPa"], r["crack_offset_in_r"]))
+                      label="%g deg, %.2f ms: split at %.2f MPa" % (r["angle"], f["time"] * 1e3, r["split_strength_MPa"]))
+        c = r["curve"]
+        ax[3].plot(c["time_ms"], c["stress_MPa"], label="%g deg: split %.2f MPa, largest %.2f MPa"
+                   % (r["angle"], r["split_strength_MPa"], r["peak_strength_MPa"]))
     t = np.linspace(0, 2 * np.pi, 200)
     ax[1].plot(51.3 * np.cos(t), 51.3 * np.sin(t), color="0.6", lw=0.8)
     ax[1].set_aspect("equal")
     ax[1].set_xlabel("x [mm]")
     ax[1].set_ylabel("y [mm]")
-    ax[1].set_title("Brazilian disc: open bonds at the split")
+    ax[1].set_title("Brazilian disc: open bonds when the crack spans the middle half")
     ax[1].legend(fontsize=8, loc="lower right")
+    if a.brazilian_reference:
+        ref = json.load(open(a.brazilian_reference))
+        ax[3].axhline(ref["initiation_MPa"], color="k", ls="--", lw=1,
+                      label="fictitious crack FE: crack starts, %.2f MPa" % ref["initiation_MPa"])
+        ax[3].axhline(ref["quarter_span_MPa"], color="k", ls=":", lw=1,
+                      label="FE: cohesive zone spans the middle half, %.2f MPa" % ref["quarter_span_MPa"])
+    ax[3].set_xlim(0.6, 1.6)
+    ax[3].set_ylim(0, 4.6)
+    ax[3].set_xlabel("time [ms]")
+    ax[3].set_ylabel("2P / (pi D t) [MPa]")
+    ax[3].set_title("Brazilian disc: splitting stress, lattice angles 0-30 deg")
+    ax[3].legend(fontsize=8, loc="lower left")
 
     for path in a.beam:
         for r in json.load(open(path))["runs"]:
