@@ -60,10 +60,11 @@ def main(argv):
             sys.exit("figures.py: %s: no series of the %g-degree run under %s (looked for %s)"
                      % (a.brazilian, r["angle"], os.path.join(study_dir, "brazilian"), ", ".join(tags)))
         pvd = found[0]
-        f = last_frame(pvd, r["split_span_time"])
-        mid = f["mid"][f["opened"]]
-        ax[1].scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3,
-                      label="%g deg, %.2f ms: split at %.2f MPa" % (r["angle"], f["time"] * 1e3, r["split_strength_MPa"]))
+        if np.isfinite(r["split_span_time"]):
+            f = last_frame(pvd, r["split_span_time"])
+            mid = f["mid"][f["opened"]]
+            ax[1].scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3, label="%g deg, %.2f ms: split at %.2f MPa"
+                          % (r["angle"], f["time"] * 1e3, r["split_strength_MPa"]))
         c = r["curve"]
         ax[3].plot(c["time_ms"], c["stress_MPa"], label="%g deg: split %.2f MPa, largest %.2f MPa"
                    % (r["angle"], r["split_strength_MPa"], r["peak_strength_MPa"]))
