@@ -46,6 +46,16 @@ if(NOT HEXDEM_SANITIZE)
     COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/brazilian_fe.py --h 7)
   set_tests_properties(case_material_brazilian_fe_bad_h PROPERTIES LABELS "validation" TIMEOUT 60
     PASS_REGULAR_EXPRESSION "--h: '7' mm lies outside 0.1 to 5 mm")
+  # A disc that fails before its crack spans the middle half of the loaded diameter has no split
+  # strength: with the local criterion the 0-degree disc crushes under a flat first
+  # (docs/validation.md), and analyse.py's check must say so.
+  add_test(NAME case_material_brazilian_crushed_refused
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/material_tests/run_study.py brazilian
+            --angles 0 --set material.concrete.nonlocal_radius=0 --strict
+            --out ${HEXDEM_TEST_WORK_DIR}/material_tests_crushed --jobs 1 --hexdem $<TARGET_FILE:hexdem>)
+  set_tests_properties(case_material_brazilian_crushed_refused PROPERTIES LABELS "validation" TIMEOUT 300
+    PASS_REGULAR_EXPRESSION "check failed in the run at angle 0[^\n]*: the crack spans the middle half of the loaded diameter by the split"
+    ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
   # The check that a Brazilian disc split: the 30-degree disc run only to 1.1 ms (the end time
   # of earlier builds, at which it had not split yet) must be refused, not given a strength.
   add_test(NAME case_material_brazilian_unsplit_refused
