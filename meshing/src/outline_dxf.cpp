@@ -34,6 +34,7 @@
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/point_clusters.hpp"
 #include "hexdem/meshing/text.hpp"
 #include "hexdem/meshing/toml_values.hpp"
 
@@ -456,21 +457,6 @@ bool drop_short_segments(Piece& piece, double tol) {
   return piece.points.size() >= 2;
 }
 
-/// Union-find over piece ends.
-struct DisjointSets {
-  std::vector<std::size_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void unite(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
-
 /// A loop in drawing units before flattening: a cycle of piece traversals.
 struct Traversal {
   std::size_t piece;       ///< index into the pieces
@@ -648,50 +634,14 @@ class Reader {
       return e % 2 == 0 ? p.points.front() : p.points.back();
     };
 
-    // Hash grid with cells of the tolerance's size: matching ends lie in adjacent cells.
-    DisjointSets sets(nends);
-    if (nends > 0) {
-      double xmin = HUGE_VAL, ymin = HUGE_VAL;
-      for (std::size_t e = 0; e < nends; ++e) {
-        xmin = std::min(xmin, end_point(e).x);
-        ymin = std::min(ymin, end_point(e).y);
-      }
-      const double cell = tolerance_ > 0.0 ? tolerance_ : 1.0;
-      const auto cell_index = [&](double v, double v0) {
-        return static_cast<std::int64_t>(std::floor(std::min((v - v0) / cell, 1e15)));
-      };
-      const auto key = [](std::int64_t i, std::int64_t j) {
-        return static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ULL ^
-               static_cast<std::uint64_t>(j);
-      };
-      std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
-      grid.reserve(nends);
-      for (std::size_t e = 0; e < nends; ++e) {
-        const Vec2 p = end_point(e);
-        const std::int64_t i = cell_index(p.x, xmin), j = cell_index(p.y, ymin);
-        for (std::int64_t di = -1; di <= 1; ++di)
-          for (std::int64_t dj = -1; dj <= 1; ++dj) {
-            const auto it = grid.find(key(i + di, j + dj));
-            if (it == grid.end()) continue;
-            for (const std::size_t other : it->second)
-              if (distance(p, end_point(other)) <= tolerance_) sets.unite(e, other);
-          }
-        grid[key(i, j)].push_back(e);
-      }
-    }
-
-    // Nodes: clusters of ends, numbered in order of first appearance, at the ends' mean.
-    std::vector<std::size_t> node_of(nends);
-    std::vector<std::vector<std::size_t>> node_ends;
-    {
-      std::unordered_map<std::size_t, std::size_t> node_of_root;
-      for (std::size_t e = 0; e < nends; ++e) {
-        const auto [it, added] = node_of_root.try_emplace(sets.find(e), node_ends.size());
-        if (added) node_ends.emplace_back();
-        node_of[e] = it->second;
-        node_ends[it->second].push_back(e);
-      }
-    }
+    // Nodes: clusters of ends within the tolerance (a hash grid with cells of its size),
+    // numbered in order of first appearance, at the ends' mean.
+    std::size_t nodes = 0;
+    const std::vector<std::size_t> node_of = cluster_points(
+        nends, end_point, tolerance_ > 0.0 ? tolerance_ : 1.0,
+        [&](std::size_t a, std::size_t b) { return distance(end_point(a), end_point(b)) <= tolerance_; }, nodes);
+    std::vector<std::vector<std::size_t>> node_ends(nodes);
+    for (std::size_t e = 0; e < nends; ++e) node_ends[node_of[e]].push_back(e);
     std::vector<Vec2> node_point(node_ends.size());
     for (std::size_t v = 0; v < node_ends.size(); ++v) {
       Vec2 sum{};

@@ -8,11 +8,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
-#include <unordered_map>
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/point_clusters.hpp"
 #include "hexdem/solver/boundary_checks.hpp"
 
 #include "solver_text.hpp"
@@ -31,52 +30,26 @@ bool held_by_set(const meshing::Lattice& lattice, std::int64_t e, double radius)
 /// The parts of boundary set s: its members grouped by where their set edges lie, two members
 /// in one part when their edges' centres are within 3 (r_i + r_j) of each other (neighbouring
 /// cells along an edge lie about 2r apart; a set named on two separate edges, such as a beam's
-/// two supports, has two parts). Returns the part of each of the set's entries, numbered from 0,
-/// in `part`, and the number of parts.
-std::int32_t set_parts(const meshing::Lattice& lattice, const std::vector<double>& radius, int s,
-                       std::vector<std::int32_t>& part) {
+/// two supports, has two parts). Returns the part of each of the set's entries, numbered from 0
+/// in order of first appearance, and sets `parts` to their number.
+std::vector<std::size_t> set_parts(const meshing::Lattice& lattice, const std::vector<double>& radius, int s,
+                                   std::size_t& parts) {
   const auto first = static_cast<std::size_t>(lattice.set_offset[static_cast<std::size_t>(s)]);
   const auto n = static_cast<std::size_t>(lattice.set_offset[static_cast<std::size_t>(s) + 1]) - first;
   const auto r_of = [&](std::size_t k) { return radius[static_cast<std::size_t>(lattice.set_disk[first + k])]; };
-  std::vector<std::size_t> root(n);
-  std::iota(root.begin(), root.end(), std::size_t{0});
-  const auto find = [&](std::size_t a) {
-    while (root[a] != a) a = root[a] = root[root[a]];
-    return a;
+  struct Point {
+    double x, y;
   };
+  const auto point = [&](std::size_t k) { return Point{lattice.set_cx[first + k], lattice.set_cy[first + k]}; };
   double r_max = 0;
   for (std::size_t k = 0; k < n; ++k) r_max = std::max(r_max, r_of(k));
-  // Grid of cells of side 6 r_max: a member's partners lie in its cell or the 8 around it.
-  const double h = r_max > 0 ? 6 * r_max : 1.0;
-  const auto cell = [&](std::size_t k, std::int64_t dx, std::int64_t dy) {
-    const auto cx = static_cast<std::int64_t>(std::floor(lattice.set_cx[first + k] / h)) + dx;
-    const auto cy = static_cast<std::int64_t>(std::floor(lattice.set_cy[first + k] / h)) + dy;
-    return static_cast<std::uint64_t>(cx) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(cy);
-  };
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
-  for (std::size_t k = 0; k < n; ++k) grid[cell(k, 0, 0)].push_back(k);
-  for (std::size_t k = 0; k < n; ++k) {
-    for (std::int64_t dx = -1; dx <= 1; ++dx) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = grid.find(cell(k, dx, dy));
-        if (it == grid.end()) continue;
-        for (const std::size_t j : it->second) {
-          const double d = std::hypot(lattice.set_cx[first + k] - lattice.set_cx[first + j],
-                                      lattice.set_cy[first + k] - lattice.set_cy[first + j]);
-          if (d <= 3 * (r_of(k) + r_of(j))) root[find(k)] = find(j);
-        }
-      }
-    }
-  }
-  part.assign(n, -1);
-  std::vector<std::int32_t> number(n, -1);
-  std::int32_t parts = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    std::int32_t& p = number[find(k)];
-    if (p < 0) p = parts++;
-    part[k] = p;
-  }
-  return parts;
+  // Linked members lie within 3 (r_k + r_j) <= 6 r_max of each other: cells of that side.
+  return meshing::cluster_points(
+      n, point, r_max > 0 ? 6 * r_max : 1.0,
+      [&](std::size_t k, std::size_t j) {
+        return std::hypot(point(k).x - point(j).x, point(k).y - point(j).y) <= 3 * (r_of(k) + r_of(j));
+      },
+      parts);
 }
 
 /// The velocity components (kFixX, kFixY) a boundary condition holds on its disks.
@@ -159,16 +132,15 @@ void Solver::setup_boundaries() {
 void Solver::check_every_part_held(const BoundaryCondition& bc, int s) const {
   // A set named on separate edges (a beam's two supports) whose one part holds nothing would let
   // the run go on with a support missing: refused like a set that holds nothing at all.
-  std::vector<std::int32_t> part;
-  const std::int32_t parts = set_parts(lattice_, model_.radius, s, part);
+  std::size_t parts = 0;
+  const std::vector<std::size_t> part = set_parts(lattice_, model_.radius, s, parts);
   if (parts < 2) return;
   const auto first = lattice_.set_offset[static_cast<std::size_t>(s)];
-  std::vector<std::size_t> held(static_cast<std::size_t>(parts), 0), members(static_cast<std::size_t>(parts), 0);
-  std::vector<double> nearest(static_cast<std::size_t>(parts), std::numeric_limits<double>::infinity());
-  std::vector<double> r_nearest(static_cast<std::size_t>(parts), 0), cx(static_cast<std::size_t>(parts), 0),
-      cy(static_cast<std::size_t>(parts), 0);
+  std::vector<std::size_t> held(parts, 0), members(parts, 0);
+  std::vector<double> nearest(parts, std::numeric_limits<double>::infinity());
+  std::vector<double> r_nearest(parts, 0), cx(parts, 0), cy(parts, 0);
   for (std::size_t k = 0; k < part.size(); ++k) {
-    const auto p = static_cast<std::size_t>(part[k]);
+    const std::size_t p = part[k];
     const auto e = static_cast<std::int64_t>(first) + static_cast<std::int64_t>(k);
     const auto ue = static_cast<std::size_t>(e);
     const auto i = static_cast<std::size_t>(lattice_.set_disk[ue]);
@@ -181,7 +153,7 @@ void Solver::check_every_part_held(const BoundaryCondition& bc, int s) const {
       r_nearest[p] = model_.radius[i];
     }
   }
-  for (std::size_t p = 0; p < static_cast<std::size_t>(parts); ++p) {
+  for (std::size_t p = 0; p < parts; ++p) {
     if (held[p] > 0) continue;
     const double n = static_cast<double>(members[p]);
     throw InputError(bc.where + ": boundary set '" + bc.set + "' holds no disk on its part near (" + fmt(cx[p] / n) +
