@@ -7,8 +7,9 @@ set -euo pipefail
 # libopenmpi-dev: ParaView's CMake package checks MPI headers at configure time.
 # libdeflate-dev: the .vtu writer's zlib streams (zlib1g-dev: the readers and checks).
 # calculix-ccx: the finite-element reference of cases/narrow_plate (ctest case_narrow_plate_calculix).
-# python3-scipy: the sparse solver of the notched beam's fictitious-crack reference
-# (cases/material_tests/fictitious_crack.py, ctest case_material_notched_beam_reference).
+# python3-scipy: the sparse solver of the fictitious-crack references of the notched beam and the
+# Brazilian disc (cases/material_tests/fictitious_crack.py and brazilian_fe.py, ctests
+# case_material_notched_beam_reference and case_material_brazilian_reference).
 # paraview: the GUI the README opens results in; libqt5svg5: without it the GUI's toolbar icons
 # (SVG) are blank.
 packages=(

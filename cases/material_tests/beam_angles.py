@@ -26,7 +26,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from run_study import run_all, run_case  # noqa: E402
+from run_study import run_all, run_case, spread_line, spread_of  # noqa: E402
 REPO = os.path.dirname(os.path.dirname(HERE))
 CASE = os.path.join(HERE, "notched_beam.toml")
 LEFT = "[-1000.1, 0.0], [-999.9, 0.0]"
@@ -126,12 +126,8 @@ def main(argv):
             vals = [r[key] for r in group]
             if not vals:
                 continue
-            mean = sum(vals) / len(vals)
-            dev = max(abs(v - mean) for v in vals)
-            summary.setdefault("r%g" % radius, {})[key] = {"mean": mean, "spread": max(vals) - min(vals),
-                                                           "max_dev_pct": 100 * dev / abs(mean) if mean else 0.0}
-            print("r = %g m  %-36s mean %-10.4g spread %-10.4g max deviation %.2f %% of the mean"
-                  % (radius, key, mean, max(vals) - min(vals), summary["r%g" % radius][key]["max_dev_pct"]))
+            s = summary.setdefault("r%g" % radius, {})[key] = spread_of(vals)
+            print("r = %g m  %-36s %s" % (radius, key, spread_line(s)))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"runs": rows, "summary": summary}, f, indent=1)

@@ -39,15 +39,16 @@ def main(argv):
     from analyse import last_frame  # noqa: E402
 
     fig, axes = plt.subplots(2, 2, figsize=(13, 10))
-    ax = [axes[0][0], axes[1][0], axes[1][1], axes[0][1]]  # tension, splits, beam, Brazilian curves
+    ax_tension, ax_curves = axes[0]
+    ax_splits, ax_beam = axes[1]
     tension = json.load(open(a.tension))["runs"]
     for r in sorted(tension, key=lambda r: r["angle"]):
         c = r["curve"]
-        ax[0].plot(c["displacement_um"], c["stress_MPa"], label="%g deg: %.2f MPa" % (r["angle"], r["peak_stress_MPa"]))
-    ax[0].set_xlabel("grip displacement [um]")
-    ax[0].set_ylabel("nominal stress [MPa]")
-    ax[0].set_title("uniaxial tension, lattice angles 0-30 deg")
-    ax[0].legend()
+        ax_tension.plot(c["displacement_um"], c["stress_MPa"], label="%g deg: %.2f MPa" % (r["angle"], r["peak_stress_MPa"]))
+    ax_tension.set_xlabel("grip displacement [um]")
+    ax_tension.set_ylabel("nominal stress [MPa]")
+    ax_tension.set_title("uniaxial tension, lattice angles 0-30 deg")
+    ax_tension.legend()
 
     brazilian = json.load(open(a.brazilian))["runs"]
     study_dir = os.path.dirname(os.path.abspath(a.brazilian))
@@ -63,35 +64,35 @@ def main(argv):
         if np.isfinite(r["split_span_time"]):
             f = last_frame(pvd, r["split_span_time"])
             mid = f["mid"][f["opened"]]
-            ax[1].scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3, label="%g deg, %.2f ms: split at %.2f MPa"
+            ax_splits.scatter(mid[:, 0] * 1e3, mid[:, 1] * 1e3, s=3, label="%g deg, %.2f ms: split at %.2f MPa"
                           % (r["angle"], f["time"] * 1e3, r["split_strength_MPa"]))
         c = r["curve"]
-        ax[3].plot(c["time_ms"], c["stress_MPa"], label="%g deg: split %.2f MPa, largest %.2f MPa"
+        ax_curves.plot(c["time_ms"], c["stress_MPa"], label="%g deg: split %.2f MPa, largest %.2f MPa"
                    % (r["angle"], r["split_strength_MPa"], r["peak_strength_MPa"]))
     t = np.linspace(0, 2 * np.pi, 200)
-    ax[1].plot(51.3 * np.cos(t), 51.3 * np.sin(t), color="0.6", lw=0.8)
-    ax[1].set_aspect("equal")
-    ax[1].set_xlabel("x [mm]")
-    ax[1].set_ylabel("y [mm]")
-    ax[1].set_title("Brazilian disc: open bonds when the crack spans the middle half")
-    ax[1].legend(fontsize=8, loc="lower right")
+    ax_splits.plot(51.3 * np.cos(t), 51.3 * np.sin(t), color="0.6", lw=0.8)
+    ax_splits.set_aspect("equal")
+    ax_splits.set_xlabel("x [mm]")
+    ax_splits.set_ylabel("y [mm]")
+    ax_splits.set_title("Brazilian disc: open bonds when the crack spans the middle half")
+    ax_splits.legend(fontsize=8, loc="lower right")
     if a.brazilian_reference:
         ref = json.load(open(a.brazilian_reference))
-        ax[3].axhline(ref["initiation_MPa"], color="k", ls="--", lw=1,
+        ax_curves.axhline(ref["initiation_MPa"], color="k", ls="--", lw=1,
                       label="fictitious crack FE: crack starts, %.2f MPa" % ref["initiation_MPa"])
-        ax[3].axhline(ref["quarter_span_MPa"], color="k", ls=":", lw=1,
+        ax_curves.axhline(ref["quarter_span_MPa"], color="k", ls=":", lw=1,
                       label="FE: cohesive zone spans the middle half, %.2f MPa" % ref["quarter_span_MPa"])
-    ax[3].set_xlim(0.6, 1.6)
-    ax[3].set_ylim(0, 4.6)
-    ax[3].set_xlabel("time [ms]")
-    ax[3].set_ylabel("2P / (pi D t) [MPa]")
-    ax[3].set_title("Brazilian disc: splitting stress, lattice angles 0-30 deg")
-    ax[3].legend(fontsize=8, loc="lower left")
+    ax_curves.set_xlim(0.6, 1.6)
+    ax_curves.set_ylim(0, 4.6)
+    ax_curves.set_xlabel("time [ms]")
+    ax_curves.set_ylabel("2P / (pi D t) [MPa]")
+    ax_curves.set_title("Brazilian disc: splitting stress, lattice angles 0-30 deg")
+    ax_curves.legend(fontsize=8, loc="lower left")
 
     for path in a.beam:
         for r in json.load(open(path))["runs"]:
             c = r["curve"]
-            ax[2].plot(c["deflection_mm"], c["load_N"],
+            ax_beam.plot(c["deflection_mm"], c["load_N"],
                        label="r = %g mm: peak %.0f N, W/A %.0f J/m^2" % (r["radius"] * 1e3, r["peak_load_N"],
                                                                        r["work_of_fracture_J_m2"]))
     for path, style in zip(a.beam_reference, ("k--", "k:", "k-.")):
@@ -99,12 +100,12 @@ def main(argv):
         sup = "hinged supports (as the case)" if ref["supports"] == "point" else "20 mm held support strips"
         if ref.get("strip") == "contact":
             sup += ", a loading plate that only pushes"
-        ax[2].plot([p["deflection_mm"] for p in ref["points"]], [p["load_N"] for p in ref["points"]], style, lw=1.5,
+        ax_beam.plot([p["deflection_mm"] for p in ref["points"]], [p["load_N"] for p in ref["points"]], style, lw=1.5,
                    label="fictitious crack FE, %s: peak %.0f N" % (sup, ref["peak_load_N"]))
-    ax[2].set_xlabel("deflection [mm]")
-    ax[2].set_ylabel("load [N]")
-    ax[2].set_title("notched beam (Petersson), G_F = 124 J/m^2")
-    ax[2].legend(fontsize=8, loc="upper right")
+    ax_beam.set_xlabel("deflection [mm]")
+    ax_beam.set_ylabel("load [N]")
+    ax_beam.set_title("notched beam (Petersson), G_F = 124 J/m^2")
+    ax_beam.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     fig.savefig(a.out, dpi=110)
     print(a.out)

@@ -65,6 +65,18 @@ def run_all(jobs, fn, combos):
     return ok, rows
 
 
+def spread_of(vals):
+    """The mean, the spread (max - min) and the largest deviation from the mean in % of it."""
+    mean = sum(vals) / len(vals)
+    dev = max(abs(v - mean) for v in vals)
+    return {"mean": mean, "spread": max(vals) - min(vals), "max_dev_pct": 100 * dev / abs(mean) if mean else float("nan")}
+
+
+def spread_line(s):
+    """spread_of's figures as printed by the studies."""
+    return "mean %-10.4g spread %-10.4g max deviation %.2f %% of the mean" % (s["mean"], s["spread"], s["max_dev_pct"])
+
+
 def run_one(args, angle, radius, seed):
     tag = "a%g" % angle if angle is not None else "a-"
     tag += "_r%g" % radius if radius is not None else ""
@@ -109,12 +121,8 @@ def main(argv):
             vals = [r[key] for r in rows if isinstance(r.get(key), (int, float))]
             if not vals:
                 continue
-            mean = sum(vals) / len(vals)
-            dev = max(abs(v - mean) for v in vals)
-            summary[key] = {"mean": mean, "spread": max(vals) - min(vals),
-                            "max_dev_pct": 100 * dev / abs(mean) if mean else float("nan"), "values": vals}
-            print("%-28s mean %-10.4g spread %-10.4g max deviation %.2f %% of the mean" %
-                  (key, mean, max(vals) - min(vals), summary[key]["max_dev_pct"]))
+            summary[key] = dict(spread_of(vals), values=vals)
+            print("%-28s %s" % (key, spread_line(summary[key])))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"runs": rows, "summary": summary}, f, indent=1)
