@@ -31,3 +31,12 @@ if(NOT HEXDEM_SANITIZE)
   set_tests_properties(case_warhead_lattice_study_reduced PROPERTIES
     LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
 endif()
+# analyse.py's cone fit on synthetic discs (tests/cases/test_warhead_cone_fit.py): a cone at
+# 40 degrees is fitted within 0.5 degree, and a disc whose own fragment has come apart (a target
+# whose bonds all broke) gives "no cone" with its reason instead of failing the analysis.
+if(NOT HEXDEM_SANITIZE)
+  add_test(NAME case_warhead_cone_fit
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/tests/cases/test_warhead_cone_fit.py)
+  set_tests_properties(case_warhead_cone_fit PROPERTIES
+    LABELS "validation" TIMEOUT 60 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
+endif()
