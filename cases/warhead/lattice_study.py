@@ -4,13 +4,19 @@
 
     /usr/bin/python3 cases/warhead/lattice_study.py HEXDEM OUT_DIR [--speeds 100 50]
         [--angles 0 10 20 30] [--radii 0.5e-3 0.35e-3] [--seeds 1] [--threads 2]
-        [--json FILE] [--reduced] [--set KEY=VALUE ...]
+        [--json FILE] [--reduced] [--control none|broken] [--set KEY=VALUE ...]
 
 Runs every member (speed x angle x radius x seed) with `hexdem run` and `--set` overrides of
 the shipped case files (case.toml at 100 m/s, case_50.toml at 50 m/s, case_25.toml at 25 m/s;
 with --reduced, case_ctest.toml at 100 m/s: r = 1 mm, 150 us, the ctest's size):
 `mesh.angle` (both bodies), `mesh.radius` and `random.seed`, and any `--set KEY=VALUE` given
-here for every member (e.g. `--set material.concrete.nonlocal_radius=4e-3`). The disc's rim is put at the first
+here for every member (e.g. `--set material.concrete.nonlocal_radius=4e-3`). `--control none`
+runs the study without fracture or plasticity (the concrete's strengths 1e12 Pa, the steel's
+yield stress 1e12 Pa), `--control broken` with the disc's bonds broken wherever the stress
+waves pass (strengths of 10-100 kPa, brittle): the two controls of docs/validation.md, which show
+what the lattice angle moves before any bond breaks and after every bond has; the study
+checks that each member is what its control says (no broken bond, no plastic work; over half
+of the disc in loose disks) and fails the member otherwise. The disc's rim is put at the first
 of 200, 200.2, ..., 201.4 mm at which `hexdem check` accepts the member, so that the clamped
 rim set selects disks of a rotated lattice (a set that selects none is refused); the rim used
 is in the JSON (`rim_mm`). Each member is analysed by
@@ -30,6 +36,16 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+# The controls (docs/validation.md, "What the angle moves before any bond breaks, and after
+# every bond has"): overrides of the shipped cases' concrete ("concrete") and steel ("steel").
+CONTROLS = {
+    "none": ["material.concrete.fracture_energy=0", "material.concrete.tensile_strength=1e12",
+             "material.concrete.cohesion=1e12", "material.concrete.compressive_strength=1e13",
+             "material.steel.yield_stress=1e12"],
+    "broken": ["material.concrete.fracture_energy=0", "material.concrete.tensile_strength=1e4",
+               "material.concrete.cohesion=1e4", "material.concrete.compressive_strength=1e5"],
+}
+BROKEN_LOOSE = 0.5  # --control broken: the least fraction of the disc that must end in loose disks
 CASES = {100: "case.toml", 50: "case_50.toml", 25: "case_25.toml"}
 REDUCED = {100: "case_ctest.toml"}
 
@@ -65,7 +81,7 @@ def run_member(args, speed, angle, radius, seed):
     case = os.path.join(HERE, (REDUCED if args.reduced else CASES)[speed])
     overrides = ["--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius,
                  "--set", "random.seed=%d" % seed]
-    for extra in args.set:
+    for extra in CONTROLS.get(args.control, []) + args.set:
         overrides += ["--set", extra]
     outline, rim = outline_for(case, overrides, work, args.hexdem)
     if outline is None:
@@ -86,12 +102,20 @@ def run_member(args, speed, angle, radius, seed):
     with open(summary) as f:
         r = json.load(f)["runs"][0]
     cone = r["cone"]
+    loose = r["pulverised"]["fraction_of_target"]
+    plastic = r["energy"]["final"].get("plastic", 0.0)
+    if args.control == "none" and (r["broken_bonds"] != 0 or plastic != 0):
+        return tag, None, "not a run without fracture: %d broken bonds, %.3g J/rad of plastic work" % (
+            r["broken_bonds"], plastic)
+    if args.control == "broken" and loose < BROKEN_LOOSE:
+        return tag, None, "not a broken disc: %.1f %% of it in loose disks (at least %.0f %%)" % (
+            100 * loose, 100 * BROKEN_LOOSE)
     return tag, {
         "speed": speed, "angle": angle, "radius": radius, "seed": seed,
         "rim_mm": rim, "outcome": r["outcome"], "residual_velocity": r["residual_velocity_m_s"],
         "max_depth_mm": 1e3 * r["max_penetration_depth_m"],
         "cone_half_angle": cone["half_angle_deg"] if cone.get("formed") else None,
-        "broken_bonds": r["broken_bonds"],
+        "broken_bonds": r["broken_bonds"], "loose_fraction": loose, "control": args.control,
         "max_abs_error": r["energy"]["max_abs_relative_error"],
         "run_warning": r.get("run_warning"),
     }, None
@@ -118,6 +142,8 @@ def main(argv):
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="a further `hexdem run --set` override for every member (repeatable)")
     parser.add_argument("--reduced", action="store_true", help="case_ctest.toml (100 m/s only)")
+    parser.add_argument("--control", choices=sorted(CONTROLS),
+                        help="none: no fracture or plasticity; broken: every bond of the disc broken")
     args = parser.parse_args(argv)
     if args.reduced and args.speeds != [100]:
         parser.error("--reduced has 100 m/s only (--speeds 100)")
@@ -180,7 +206,8 @@ def main(argv):
                         "%.1f deg (%d of %d with a cone)" % (max(ca) - min(ca), len(ca), len(g)) if ca else "none"))
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"members": members, "groups": groups, "failed": failed}, f, indent=1)
+            json.dump({"control": args.control, "members": members, "groups": groups, "failed": failed}, f,
+                      indent=1)
     for tag, why in failed:
         sys.stderr.write("lattice_study.py: %s: %s\n" % (tag, why))
     warned = [m for m in members if m.get("run_warning")]

@@ -40,3 +40,28 @@ if(NOT HEXDEM_SANITIZE)
   set_tests_properties(case_warhead_cone_fit PROPERTIES
     LABELS "validation" TIMEOUT 60 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
 endif()
+# The study's two controls on the reduced case at 0 and 30 degrees (lattice_study.py --control,
+# docs/validation.md): each member must be what its control says, or the study exits 1. `none`:
+# no broken bond and no plastic work; `broken`: over half of the disc in loose disks. The third
+# test gives the broken control the concrete's own strengths back (a later --set wins), so its
+# member is not a broken disc and the study must say so.
+if(NOT HEXDEM_SANITIZE)
+  foreach(control none broken)
+    add_test(NAME case_warhead_control_${control}_reduced
+      COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/lattice_study.py
+              $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_control_${control} --reduced
+              --speeds 100 --angles 0 30 --radii 1e-3 --threads 1 --control ${control}
+              --json ${HEXDEM_TEST_WORK_DIR}/case_warhead_control_${control}/study.json)
+    set_tests_properties(case_warhead_control_${control}_reduced PROPERTIES
+      LABELS "validation" TIMEOUT 120 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
+  endforeach()
+  add_test(NAME case_warhead_control_refused
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/lattice_study.py
+            $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_control_refused --reduced
+            --speeds 100 --angles 0 --radii 1e-3 --threads 1 --control broken
+            --set material.concrete.tensile_strength=4e6 --set material.concrete.cohesion=11.5e6
+            --set material.concrete.compressive_strength=40e6)
+  set_tests_properties(case_warhead_control_refused PROPERTIES
+    LABELS "validation" TIMEOUT 120 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}"
+    PASS_REGULAR_EXPRESSION "v100_a0_r1_s1: not a broken disc: [0-9.]+ % of it in loose disks")
+endif()
