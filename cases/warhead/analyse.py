@@ -173,7 +173,7 @@ def cone_fit(a, target, disc_disks, ejected):
     result = {"bins": len(z), "depth_m": z, "radius_m": rc}
     z, rc = np.array(z), np.array(rc)
     # The fit leaves out the top bin (crater lip) and the bottom bin (spalled back layer).
-    mid = (z > 0.002) & (z < DISC_THICKNESS - 0.002) if len(z) else np.zeros(0, dtype=bool)
+    mid = (z > 0.002) & (z < DISC_THICKNESS - 0.002)
     if mid.sum() < 2:  # the disc's fragment has come apart: nothing to fit a line through
         result.update(formed=False, plug_separated=False,
                       reason="no cone: the disc's own fragment spans %d of the interior depth bins" % mid.sum())

@@ -30,22 +30,18 @@ if(NOT HEXDEM_SANITIZE)
             --json ${HEXDEM_TEST_WORK_DIR}/case_warhead_study/study.json)
   set_tests_properties(case_warhead_lattice_study_reduced PROPERTIES
     LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
-endif()
-# analyse.py's cone fit on synthetic discs (tests/cases/test_warhead_cone_fit.py): a cone at
-# 40 degrees is fitted within 0.5 degree, and a disc whose own fragment has come apart (a target
-# whose bonds all broke) gives "no cone" with its reason instead of failing the analysis.
-if(NOT HEXDEM_SANITIZE)
+  # analyse.py's cone fit on synthetic discs (tests/cases/test_warhead_cone_fit.py): a cone at
+  # 40 degrees is fitted within 0.5 degree, and a disc whose own fragment has come apart (a target
+  # whose bonds all broke) gives "no cone" with its reason instead of failing the analysis.
   add_test(NAME case_warhead_cone_fit
     COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/tests/cases/test_warhead_cone_fit.py)
   set_tests_properties(case_warhead_cone_fit PROPERTIES
     LABELS "validation" TIMEOUT 60 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
-endif()
-# The study's two controls on the reduced case at 0 and 30 degrees (lattice_study.py --control,
-# docs/validation.md): each member must be what its control says, or the study exits 1. `none`:
-# no broken bond and no plastic work; `broken`: over half of the disc in loose disks. The third
-# test gives the broken control the concrete's own strengths back (a later --set wins), so its
-# member is not a broken disc and the study must say so.
-if(NOT HEXDEM_SANITIZE)
+  # The study's two controls on the reduced case at 0 and 30 degrees (lattice_study.py --control,
+  # docs/validation.md): each member must be what its control says, or the study exits 1. `none`:
+  # no broken bond and no plastic work; `broken`: over half of the disc in loose disks. The third
+  # test gives the broken control the concrete's own strengths back (a later --set wins), so its
+  # member is not a broken disc and the study must say so.
   foreach(control none broken)
     add_test(NAME case_warhead_control_${control}_reduced
       COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/lattice_study.py
