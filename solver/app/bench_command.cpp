@@ -216,8 +216,9 @@ int run_bench(const BenchArgs& a) {
   std::printf("  set-up time %.3f s (mesh %.3f s, solver set-up %.3f s)\n", setup_s, mesh_s, setup_s - mesh_s);
   const solver::SetupTimes& st = s.setup_times();
   std::printf("  solver set-up: model %.3f s, random field %.3f s, sets %.3f s, contacts %.3f s, critical step %.3f s "
-              "(%d Lanczos iterations), energy scale %.3f s\n",
+              "(%d Lanczos iterations on %zu disks: %s), energy scale %.3f s\n",
               st.model, st.random_field, st.sets, st.contacts, st.time_step, s.time_step().finite_iterations,
+              s.finite_estimate_disks(), s.finite_estimate_disks() < s.model().num_disks() ? "the edge band" : "the whole model",
               st.energy_scale);
   // CPU time shows how much of the wall time the threads ran (a shared machine).
   std::printf("  step time %.3f s (%.6g s per step; CPU time of all threads %.3f s)\n", step_s, step_s / total_steps,

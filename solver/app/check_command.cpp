@@ -2,6 +2,7 @@
 // summary (docs/case-format.md, "Checking a case").
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -19,6 +20,7 @@ namespace {
 struct CheckArgs {
   std::string case_file;
   std::vector<std::string> sets;
+  bool whole_model_step = false;
 };
 
 int run_check(const CheckArgs& a) {
@@ -27,7 +29,7 @@ int run_check(const CheckArgs& a) {
   const meshing::Lattice lattice = solver::mesh_case(c, &rep);
   // The solver's set-up: materials and their stability (Bloch), boundary sets, loads,
   // overlaps of bodies, and the time step. Refusals throw InputError like `hexdem run`.
-  const solver::Solver s(c, lattice);
+  solver::Solver s(c, lattice);
   const solver::Model& m = s.model();
 
   std::printf("hexdem check: %s (%s, %s shear model): ok\n", c.source.c_str(), solver::geometry_name(c.geometry),
@@ -60,6 +62,20 @@ int run_check(const CheckArgs& a) {
               ts.user_dt ? "given" : "safety x critical", ts.dt_critical, ts.dt_bloch, ts.dt_finite, ts.dt_eq24);
   std::printf("  stability: dt / critical = %.3f%s\n", ts.dt / ts.dt_critical,
               ts.dt <= ts.dt_critical ? "" : " (ABOVE the critical step: allow_unstable)");
+  const std::size_t estimated = s.finite_estimate_disks();
+  if (estimated < m.num_disks())
+    std::printf("  finite model: Lanczos on the edge band, %zu of %zu disks (%d iterations)\n", estimated, m.num_disks(),
+                ts.finite_iterations);
+  else
+    std::printf("  finite model: Lanczos on the whole model (%d iterations)\n", ts.finite_iterations);
+  if (a.whole_model_step && estimated < m.num_disks()) {
+    // The band's estimate against the whole model's (docs/model.md, "Time integration").
+    const double dt_finite = ts.dt_finite;
+    const double w2 = s.finite_omega2_max();
+    const double dt_whole = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : dt_finite;
+    std::printf("  whole model: finite model %.9g s against the band's %.9g s (%+.2e)\n", dt_whole, dt_finite,
+                dt_finite / dt_whole - 1);
+  }
   std::printf("  %lld steps to t = %.6g s\n", static_cast<long long>(s.total_steps()), c.time.end);
   if (c.output.checkpoint_interval > 0)
     std::printf("  checkpoints every %.6g s\n", c.output.checkpoint_interval);
@@ -79,6 +95,9 @@ Subcommand add_check_command(CLI::App& app) {
       "check", "Read, mesh and set up a case without running it; print disks per body and set, time step, stability");
   cmd->add_option("case", args->case_file, "Case file (.toml)")->required();
   cmd->add_option("--set", args->sets, "Override a case value: KEY=VALUE (as for run)")->allow_extra_args(false)->take_all();
+  cmd->add_flag("--whole-model-step", args->whole_model_step,
+                "Also estimate the finite model's critical step on the whole model (Lanczos), when the solver "
+                "estimated it on the edge band, and print both");
   return {cmd, [args] { return run_check(*args); }};
 }
 

@@ -169,6 +169,7 @@ struct CheckpointAccess {
     v.rebuilt("reaction_sets", s.reaction_sets_);
     v.rebuilt("block_sums", s.block_sums_);  // work space of update_velocities
     v.state("dt_info", s.dt_info_);
+    v.rebuilt("finite_disks", s.finite_disks_);  // the size of the set-up's estimate, not state
     v.rebuilt("setup_times", s.setup_times_);  // timing of the set-up, not state
     v.state("energy", s.energy_);
     v.rebuilt("blow_up", s.blow_up_);

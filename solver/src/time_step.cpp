@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <optional>
 
 #include <Eigen/Dense>
 #include <omp.h>
@@ -19,12 +20,15 @@ namespace hexdem::solver {
 
 using detail::fmt;
 
-double Solver::finite_omega2_max(int max_iterations) {
+namespace {
+
+/// Largest omega^2 of model m, M^-1 K, by Lanczos (Solver::finite_omega2_max); the iteration
+/// count in `iterations`.
+double lanczos_omega2_max(Model& m, int max_iterations, int& iterations) {
   // Lanczos on A = M^-1/2 K M^-1/2 (held degrees of freedom removed), with K applied through
   // the force kernel itself: the largest Ritz value converges in a few tens of iterations,
   // where plain power iteration crawls (the top of a lattice's spectrum is dense and its
   // boundary modes are localised).
-  Model& m = model_;
   const std::size_t n = m.num_disks();
   const auto ni = static_cast<std::ptrdiff_t>(n);
   const bool spins = m.shear_model == ShearModel::Rotation;
@@ -110,7 +114,7 @@ double Solver::finite_omega2_max(int max_iterations) {
     // summed in the same order as the separate passes of several threads).
     const bool one_thread = omp_get_max_threads() == 1;
     for (int it = 0; it < max_iterations; ++it) {
-      dt_info_.finite_iterations = it + 1;
+      iterations = it + 1;
       const double eps = probe(v, umax);
       // The dot products in index order (the estimate, and so the step, do not depend on
       // the thread count); the vector updates in parallel. A v is computed once, in place of
@@ -193,7 +197,142 @@ double Solver::finite_omega2_max(int max_iterations) {
   return lambda;
 }
 
-void Solver::choose_time_step() {
+}  // namespace
+
+double Solver::finite_omega2_max(int max_iterations) {
+  return lanczos_omega2_max(model_, max_iterations, dt_info_.finite_iterations);
+}
+
+// The edge band. A lattice's largest eigenfrequency above the Bloch value of its bulk belongs
+// to a mode that lives on its irregular disks (free edges, semi-disks, held or mirrored disks)
+// and decays into the regular lattice within a few rows, for it lies above the bulk's band
+// (docs/benchmarks.md, "Set-up"). The Lanczos estimate on the disks within `width` bonds of
+// an irregular disk, with the disks beyond them held, is the largest eigenvalue of a principal
+// submatrix of K: never above the whole model's (Cauchy's interlacing theorem), and equal to it
+// up to the mode's amplitude at the band's inner edge, squared. Below the Bloch value the
+// band's estimate may miss the bulk's modes, and then the Bloch step binds (choose_time_step).
+// The estimate costs the band's share of the whole model's: 4 % of it for a square of
+// 1,000,000 disks.
+std::optional<double> Solver::band_omega2_max(int width, int halo, std::size_t* band_disks, int max_iterations) {
+  const Model& m = model_;
+  // The sub-model needs the bonds' stiffness per spring kind (plane models): an axisymmetric
+  // model's rings differ from disk to disk, so its whole model is its band.
+  if (m.geometry == Geometry::Axisymmetric || m.spring_kind.empty()) return std::nullopt;
+  const std::size_t n = m.num_disks();
+  const std::int32_t reach = width + halo;
+  constexpr std::int32_t kFar = std::numeric_limits<std::int32_t>::max();
+  std::vector<std::int32_t> dist(n, kFar);  // bonds from the nearest irregular disk
+  std::vector<std::int32_t> queue;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool mirrored = (!m.mirror.plane.empty() && m.mirror.plane[i]) ||
+                          (m.has_mirror_springs() && (m.mirror.kx[i] != 0 || m.mirror.ky[i] != 0));
+    if (m.initial_bonds(i) != 6 || m.kind[i] != static_cast<std::uint8_t>(meshing::DiskKind::Disk) ||
+        m.constraint[i] != 0 || mirrored) {
+      dist[i] = 0;
+      queue.push_back(static_cast<std::int32_t>(i));
+    }
+  }
+  for (std::size_t q = 0; q < queue.size(); ++q) {  // breadth first: each disk once
+    const auto i = static_cast<std::size_t>(queue[q]);
+    if (dist[i] == reach) continue;
+    for (std::int64_t k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
+      const std::size_t j = m.adj_other(i, k);
+      if (dist[j] == kFar) {
+        dist[j] = dist[i] + 1;
+        queue.push_back(static_cast<std::int32_t>(j));
+      }
+    }
+  }
+  if (2 * queue.size() > n) return std::nullopt;  // the band would save little
+  // The band's disks in the whole model's order (so bi < bj is kept), and which are held.
+  std::vector<std::int32_t>& band = queue;
+  std::sort(band.begin(), band.end());
+  std::vector<std::uint8_t> halo_of(band.size());
+  std::size_t free_disks = 0;
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    halo_of[k] = dist[static_cast<std::size_t>(band[k])] > width ? 1 : 0;
+    if (!halo_of[k]) ++free_disks;
+  }
+  const auto sub_of = [&band](std::int32_t i) {
+    return static_cast<std::int32_t>(std::lower_bound(band.begin(), band.end(), i) - band.begin());
+  };
+  meshing::Lattice lat;
+  lat.mode = meshing::GeometryMode::Plane;
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    if (dist[static_cast<std::size_t>(m.bi[b])] > reach || dist[static_cast<std::size_t>(m.bj[b])] > reach) continue;
+    lat.bond_i.push_back(sub_of(m.bi[b]));
+    lat.bond_j.push_back(sub_of(m.bj[b]));
+    lat.bond_class.push_back(m.bond_class_of(b));
+    lat.bond_on_edge.push_back(static_cast<std::uint8_t>(m.spring_kind[b] & 1));
+  }
+  std::vector<std::int32_t>().swap(dist);
+  for (const std::int32_t d : band) {
+    const auto i = static_cast<std::size_t>(d);
+    lat.x.push_back(m.x0[i]);
+    lat.y.push_back(m.y0[i]);
+    lat.radius.push_back(m.radius[i]);
+    lat.cell_area.push_back(m.cell_area[i]);
+    lat.kind.push_back(m.kind[i]);
+    lat.body.push_back(m.body[i]);
+    lat.material.push_back(m.disk_material(i));
+  }
+  lat.cell_cx = lat.x;  // read by axisymmetric models only
+  lat.cell_cy = lat.y;
+  Model sub = build_model(std::move(lat), m.geometry, m.thickness, m.shear_model, body_materials_);
+  // The whole model's conditions; the halo held in full.
+  const bool mirror_plane = !m.mirror.plane.empty(), mirror_springs = m.has_mirror_springs();
+  if (mirror_plane) sub.mirror.plane.assign(sub.num_disks(), 0);
+  if (mirror_springs)
+    for (auto* v : {&sub.mirror.kx, &sub.mirror.ky, &sub.mirror.sx, &sub.mirror.sy}) v->assign(sub.num_disks(), 0.0);
+  for (std::size_t k = 0; k < band.size(); ++k) {
+    const auto i = static_cast<std::size_t>(band[k]);
+    sub.constraint[k] = halo_of[k] ? static_cast<std::uint8_t>(kFixX | kFixY | kFixRotation) : m.constraint[i];
+    if (mirror_plane) sub.mirror.plane[k] = m.mirror.plane[i];
+    if (mirror_springs) {
+      sub.mirror.kx[k] = m.mirror.kx[i];
+      sub.mirror.ky[k] = m.mirror.ky[i];
+      sub.mirror.sx[k] = m.mirror.sx[i];
+      sub.mirror.sy[k] = m.mirror.sy[i];
+    }
+  }
+  if (band_disks != nullptr) *band_disks = free_disks;
+  return lanczos_omega2_max(sub, max_iterations, dt_info_.finite_iterations);
+}
+
+double Solver::finite_estimate() {
+  // The band's width: 16 bonds hold the edge modes of the shipped cases to 1e-7 of omega^2
+  // (docs/benchmarks.md, "Set-up"); 3 held rings give the local-strain fits of the band's
+  // neighbours their whole neighbourhoods.
+  constexpr int kBandWidth = 16, kBandHalo = 3;
+  // The model is at rest and has no forces yet (the first step computes them; the whole
+  // model's estimate leaves its probe's in them): its state arrays hold zeros, released while
+  // the band's model exists so that it does not add to the run's peak memory, and given back
+  // as zeros.
+  Model& m = model_;
+  std::vector<std::vector<double>*> zeros;
+  for (auto* a : {&m.ux, &m.uy, &m.theta, &m.vx, &m.vy, &m.omega, &m.vx_old, &m.vy_old, &m.omega_old, &m.fx, &m.fy,
+                  &m.torque}) {
+    if (std::all_of(a->begin(), a->end(), [](double x) { return x == 0.0; })) {
+      std::vector<double>().swap(*a);
+      zeros.push_back(a);
+    }
+  }
+  std::size_t band = 0;
+  std::optional<double> band_w2 = band_omega2_max(kBandWidth, kBandHalo, &band);
+  for (auto* a : zeros) a->assign(m.num_disks(), 0.0);
+  // An edge mode decays into the bulk the more slowly the nearer it lies to the bulk's top
+  // (its decay rate goes as the square root of the distance): one within 2 % of the largest
+  // Bloch value may reach beyond the band (a plate on a lattice turned by 7 degrees, 0.5 %
+  // above it: the band was 7e-6 low), and the whole model is estimated instead.
+  constexpr double kEdgeMargin = 1.02;
+  double w2_bloch = 0;
+  for (const BlochResult& br : bloch_) w2_bloch = std::max(w2_bloch, br.omega2_max);
+  if (band_w2 && !(*band_w2 >= kEdgeMargin * w2_bloch)) band_w2.reset();
+  finite_disks_ = band_w2 ? band : model_.num_disks();
+  return band_w2 ? *band_w2 : finite_omega2_max();
+}
+
+void Solver::choose_time_step(double w2) {
   TimeStepInfo& info = dt_info_;
   info.dt_bloch = std::numeric_limits<double>::infinity();
   info.dt_eq24 = std::numeric_limits<double>::infinity();
@@ -204,7 +343,6 @@ void Solver::choose_time_step() {
                                                          case_.outline.bodies[b].radius.value_or(0.0)));
   }
   // Ritz values converge from below: allow 2 % for what the iteration has not reached.
-  const double w2 = finite_omega2_max();
   info.dt_finite = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : std::numeric_limits<double>::infinity();
   info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
   // A contact dashpot at a fraction eta of critical damping makes central differences stable

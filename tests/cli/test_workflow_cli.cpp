@@ -3,6 +3,8 @@
 // `hexdem check`, and parameter studies (`hexdem sweep`).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -447,6 +449,62 @@ TEST(Check, PrintsTheSummaryWithoutRunning) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s << " missing from:\n" << r.out;
   EXPECT_TRUE(r.err.empty()) << r.err;
   EXPECT_FALSE(fs::exists(d / "impact-output")) << "check writes nothing";
+}
+
+TEST(Check, NamesTheModelOfTheCriticalStepEstimate) {
+  const fs::path d = test_dir("cli_workflow", true);
+  // A small case: the whole model.
+  const fs::path c = write(d, "impact.toml", impact_case());
+  Result r = run_hexdem(d, "check " + c.string() + " --whole-model-step");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("finite model: Lanczos on the whole model ("), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("whole model: finite model"), std::string::npos) << "nothing to compare: " << r.out;
+  // A 40 x 40 mm plate of r = 0.1 mm (44,739 disks) whose edge mode lies 12 % above the
+  // bulk's top: the edge band, and with --whole-model-step both estimates.
+  const fs::path band = write(d, "band.toml", R"([case]
+geometry = "plane-strain"
+thickness = 0.01
+[lattice]
+radius = 0.1e-3
+angle = 7.0
+[[body]]
+name = "plate"
+[[body.shape]]
+type = "rectangle"
+min = [0, 0]
+max = [0.04, 0.04]
+boundary = { bottom = "base", top = "top", left = "mirror", right = "side" }
+[[body.shape]]
+type = "circle"
+role = "hole"
+center = [0.025, 0.02]
+radius = 0.004
+[[material]]
+id = 1
+name = "concrete"
+density = 2400.0
+E = 30e9
+nu = 0.2
+[[boundary]]
+set = "base"
+type = "fixed"
+[[boundary]]
+set = "mirror"
+type = "symmetry"
+component = "x"
+[time]
+end = 1e-3
+)");
+  r = run_hexdem(d, "check " + band.string() + " --whole-model-step");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("finite model: Lanczos on the edge band, 17035 of 44739 disks"), std::string::npos) << r.out;
+  const auto at = r.out.find("whole model: finite model ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  // "... against the band's X s (+1.82e-10)": the relative difference, within 1e-8.
+  const auto open = r.out.find('(', at), close = r.out.find(')', at);
+  ASSERT_TRUE(open != std::string::npos && close != std::string::npos) << r.out;
+  EXPECT_LT(std::abs(std::stod(r.out.substr(open + 1, close - open - 1))), 1e-8) << r.out;
+  EXPECT_NE(r.out.find("24736 steps"), std::string::npos) << r.out;
 }
 
 TEST(Check, RefusesWhatRunRefuses) {

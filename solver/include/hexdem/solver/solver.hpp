@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -173,8 +174,17 @@ public:
   [[nodiscard]] std::array<double, 2> reaction(std::size_t k) const;
 
   /// Largest omega^2 of the finite model, M^-1 K, by Lanczos iteration with the force kernel
-  /// (for the stable time step). Exposed for tests.
+  /// on the whole model. Exposed for tests and `hexdem check`.
   [[nodiscard]] double finite_omega2_max(int max_iterations = 200);
+  /// The same estimate on the edge band (time_step.cpp, "The edge band"): Lanczos on a model
+  /// of the disks within `width` bonds of an irregular disk (an edge, a semi-disk, a held
+  /// or mirrored disk), with `halo` rings of held disks around it. Empty when the band
+  /// does not apply (axisymmetric models, bonds with their own stiffness) or holds more
+  /// than half the disks. `band_disks` receives the band's size (disks free to move).
+  [[nodiscard]] std::optional<double> band_omega2_max(int width, int halo, std::size_t* band_disks = nullptr,
+                                                      int max_iterations = 200);
+  /// Disks of the model the critical step's Lanczos estimate ran on (the edge band or all).
+  [[nodiscard]] std::size_t finite_estimate_disks() const { return finite_disks_; }
 
 private:
   friend struct CheckpointAccess;  // checkpoint.cpp stores and restores the state
@@ -219,7 +229,12 @@ private:
   void wall_forces(double dt);
   [[nodiscard]] double contact_energy() const;
   [[nodiscard]] double contact_stiffness_cap(double m_eff) const;
-  void choose_time_step();
+  /// omega^2 max of the finite model: Lanczos on the edge band where it holds the largest mode,
+  /// else on the whole model (time_step.cpp); sets finite_disks_ and the iteration count.
+  [[nodiscard]] double finite_estimate();
+  /// The time step from the Bloch values, the finite model's omega2 max and the contact
+  /// dashpot (needs setup_contacts).
+  void choose_time_step(double finite_omega2);
   /// Sets model_.contact_omega2: the contact stiffness cap of every contact.
   void setup_contact_resolution();
   /// Sets energy_.scale (see EnergyBalance::scale).
@@ -246,6 +261,7 @@ private:
   std::vector<ReactionSet> reaction_sets_;
   std::vector<StepSums> block_sums_;
   TimeStepInfo dt_info_;
+  std::size_t finite_disks_ = 0;  ///< disks of the critical step's Lanczos model (not state)
   SetupTimes setup_times_;
   EnergyBalance energy_;
   BlowUp blow_up_;

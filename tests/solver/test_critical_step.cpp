@@ -1,0 +1,99 @@
+// The critical step's estimate on the edge band (time_step.cpp, "The edge band"): the largest
+// eigenvalue of M^-1 K computed on the disks within 16 bonds of an irregular disk equals the
+// whole model's Lanczos value to the iteration's own convergence (1e-6), never exceeds it
+// (it is a principal submatrix's), and is what the solver's step is made of. A band too narrow
+// to hold the edge mode gives a visibly lower value: the comparison can fail.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "hexdem/solver/case_toml.hpp"
+#include "hexdem/solver/solver.hpp"
+
+namespace {
+
+using namespace hexdem;
+using namespace hexdem::solver;
+
+/// A 40 x 40 mm plate of r = 0.1 mm (about 46,000 disks) with a hole, fixed at its base, a
+/// symmetry plane on its left edge (rollers with mirror springs), a lattice turned by 7
+/// degrees.
+std::string plate_case(const std::string& geometry, const std::string& shear_model) {
+  return "[case]\ngeometry = \"" + geometry + "\"\nthickness = 0.01\nshear_model = \"" + shear_model +
+         "\"\n[lattice]\nradius = 0.1e-3\nangle = 7.0\n[[body]]\nname = \"plate\"\n"
+         "[[body.shape]]\ntype = \"rectangle\"\nmin = [0, 0]\nmax = [0.04, 0.04]\n"
+         "boundary = { bottom = \"base\", top = \"top\", left = \"mirror\", right = \"side\" }\n"
+         "[[body.shape]]\ntype = \"circle\"\nrole = \"hole\"\ncenter = [0.025, 0.02]\nradius = 0.004\n"
+         "[[material]]\nid = 1\nname = \"concrete\"\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
+         "[[boundary]]\nset = \"base\"\ntype = \"fixed\"\n"
+         "[[boundary]]\nset = \"mirror\"\ntype = \"symmetry\"\ncomponent = \"x\"\n"
+         "[time]\nend = 1e-3\n";  // about 24,000 steps: the step count sees a change of omega^2 of 1e-4
+}
+
+/// The solver's step from the whole model's Lanczos value omega2 (choose_time_step's rule).
+double step_from(const Case& c, const Solver& s, double omega2) {
+  const double dt_critical = std::min(s.time_step().dt_bloch, 2.0 / std::sqrt(1.02 * omega2));
+  return c.time.end / std::ceil(c.time.end / (c.time.safety * dt_critical) - 1e-9);
+}
+
+/// The solver's estimate against the whole model's Lanczos value; `edge_mode`: the largest
+/// mode lies more than 2 % above the bulk's (Bloch) top, so the solver takes the band's.
+void compare(const std::string& geometry, const std::string& shear_model, bool edge_mode) {
+  const Case c = parse_case(plate_case(geometry, shear_model), "band.toml", HEXDEM_SOURCE_DIR);
+  Solver s(c, mesh_case(c));
+  const std::size_t n = s.model().num_disks();
+  const std::size_t used = s.finite_estimate_disks();
+  const double dt = s.dt();
+  std::size_t band_disks = 0;
+  const auto band = s.band_omega2_max(16, 3, &band_disks);
+  ASSERT_TRUE(band.has_value()) << "the band applies to a plane model";
+  const double whole = s.finite_omega2_max();
+  const auto narrow = s.band_omega2_max(1, 3);
+  ASSERT_TRUE(narrow.has_value());
+  const double bulk = 4.0 / (s.time_step().dt_bloch * s.time_step().dt_bloch);
+  std::printf("%s, %s: %zu disks, band %zu; omega^2 max: whole %.10g (%.4f x Bloch), band %.10g (%.2e), one row "
+              "%.10g (%.2e); the solver's estimate on %zu disks\n",
+              geometry.c_str(), shear_model.c_str(), n, band_disks, whole, whole / bulk, *band, *band / whole - 1,
+              *narrow, *narrow / whole - 1, used);
+  EXPECT_LE(*band, whole * (1 + 1e-6)) << "a principal submatrix's largest eigenvalue is not above the whole's";
+  EXPECT_EQ(whole / bulk > 1.02, edge_mode);
+  if (edge_mode) {
+    EXPECT_EQ(used, band_disks) << "the solver estimated its step on the edge band";
+    EXPECT_LT(used, n / 2);
+    EXPECT_NEAR(*band / whole, 1.0, 1e-6) << "the band holds the largest mode";
+    EXPECT_LT(*narrow / whole, 1.0 - 1e-4) << "one row is too narrow for the edge mode: the comparison can fail";
+  } else {
+    EXPECT_EQ(used, n) << "an edge mode near the bulk's top: the solver estimated the whole model";
+    EXPECT_LT(*band / whole, 1.0 - 1e-6) << "the reason for the rule: this mode reaches beyond the band";
+  }
+  EXPECT_EQ(dt, step_from(c, s, whole)) << "the step of the whole model's estimate";
+}
+
+TEST(CriticalStep, EdgeBandMatchesWholeModel) { compare("plane-strain", "local-strain", true); }
+TEST(CriticalStep, EdgeModeNearTheBulkTopTakesTheWholeModel) { compare("plane-stress", "rotation", false); }
+
+TEST(CriticalStep, NoBandForAxisymmetricOrSmallModels) {
+  // An axisymmetric model's rings differ from disk to disk: the whole model is estimated.
+  std::string axi = plate_case("axisymmetric", "local-strain");
+  axi.replace(axi.find("thickness = 0.01\n"), 17, "");
+  axi.replace(axi.find("[[boundary]]\nset = \"mirror\""), 62, "");
+  const Case ca = parse_case(axi, "axi.toml", HEXDEM_SOURCE_DIR);
+  Solver sa(ca, mesh_case(ca));
+  EXPECT_FALSE(sa.band_omega2_max(16, 3).has_value());
+  EXPECT_EQ(sa.finite_estimate_disks(), sa.model().num_disks());
+  // A plate of 4 x 4 mm is all band.
+  std::string small = plate_case("plane-stress", "rotation");
+  small.replace(small.find("max = [0.04, 0.04]"), 18, "max = [0.004, 0.004]");
+  small.replace(small.find("[[body.shape]]\ntype = \"circle\""), std::string::npos, "");
+  small += "[[material]]\nid = 1\nname = \"concrete\"\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
+           "[[boundary]]\nset = \"base\"\ntype = \"fixed\"\n[time]\nend = 1e-6\n";
+  const Case cs = parse_case(small, "small.toml", HEXDEM_SOURCE_DIR);
+  Solver ss(cs, mesh_case(cs));
+  EXPECT_FALSE(ss.band_omega2_max(16, 3).has_value());
+  EXPECT_EQ(ss.finite_estimate_disks(), ss.model().num_disks());
+}
+
+}  // namespace
