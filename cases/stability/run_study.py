@@ -30,8 +30,8 @@ def run(hexdem, out_dir, dt, end, tag):
     with open(case, "w") as f:
         f.write(text.replace('outline', 'outline'))
     p = subprocess.run([hexdem, "run", case, "--out", out_dir], capture_output=True, text=True)
-    # 0 and 3 (completed, with an energy warning) ran to the end; 1 stopped (blow-up).
-    if p.returncode not in (0, 1, 3):
+    # 0 and 3 (completed, with an energy warning) ran to the end; 4 stopped (blow-up).
+    if p.returncode not in (0, 3, 4):
         sys.exit("run_study.py: hexdem failed: " + p.stderr.strip())
     rows = []
     with open(os.path.join(out_dir, tag + ".energy.csv")) as f:

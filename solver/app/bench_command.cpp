@@ -189,7 +189,7 @@ int run_bench(const BenchArgs& a) {
     if (!s.advance(n % kCheckInterval == 0)) {
       std::fprintf(stderr, "hexdem: error: bench: the run failed at step %lld: %s\n",
                    static_cast<long long>(s.blow_up().step), s.blow_up().reason.c_str());
-      return kExitFailure;
+      return kExitRunFailed;
     }
   }
   const auto t_end = std::chrono::steady_clock::now();

@@ -362,10 +362,12 @@ int run_sweep(const SweepArgs& a) {
   std::map<pid_t, std::size_t> running;
   // A member that exits 3 ran to its end with a run-health warning: it has its values, and
   // the sweep reports it (exit 3 when no member failed).
-  std::size_t next = 0, failed = 0, warned = 0;
+  // A member that exits 1 met an internal error (a bug): the sweep passes that on.
+  std::size_t next = 0, failed = 0, warned = 0, internal = 0;
   const auto tally = [&](int code) {
     failed += code != 0 && code != kExitWarning;
     warned += code == kExitWarning;
+    internal += code == kExitFailure;
   };
   if (a.collect) {
     // The members ran elsewhere (a job array): read their exit codes, -1 if not run.
@@ -439,7 +441,8 @@ int run_sweep(const SweepArgs& a) {
     if (warned > 0) std::printf(", %zu of them with a warning (exit code 3: see their run.log)", warned);
     std::printf("; table: %s\n", csv_path.c_str());
   }
-  if (failed > 0) return kExitFailure;
+  if (internal > 0) return kExitFailure;
+  if (failed > 0) return kExitRunFailed;
   return warned == 0 ? kExitOk : kExitWarning;
 }
 

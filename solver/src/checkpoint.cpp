@@ -476,7 +476,7 @@ void write_all(int fd, const std::string& data, const std::string& path) {
     const ssize_t k = ::write(fd, data.data() + done, data.size() - done);
     if (k < 0) {
       if (errno == EINTR) continue;
-      throw std::runtime_error(path + ": cannot write checkpoint (" + error_text() + ")");
+      throw InputError(path + ": cannot write checkpoint (" + error_text() + ")");
     }
     done += static_cast<std::size_t>(k);
   }
@@ -530,7 +530,7 @@ void write_checkpoint(const std::string& path, const Solver& s, const RunState& 
   // until the new one is complete on disk.
   const std::string tmp = path + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(tmp + ": cannot write checkpoint (" + error_text() + ")");
+  if (fd < 0) throw InputError(tmp + ": cannot write checkpoint (" + error_text() + ")");
   try {
     write_all(fd, out, tmp);
     if (::fsync(fd) != 0) throw std::runtime_error(tmp + ": cannot sync checkpoint (" + error_text() + ")");
@@ -541,7 +541,7 @@ void write_checkpoint(const std::string& path, const Solver& s, const RunState& 
   }
   if (::close(fd) != 0) {
     ::unlink(tmp.c_str());
-    throw std::runtime_error(tmp + ": cannot write checkpoint (" + error_text() + ")");
+    throw InputError(tmp + ": cannot write checkpoint (" + error_text() + ")");
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     const std::string why = error_text();

@@ -380,7 +380,7 @@ void RunOutput::save_state(RunState& state) {
     f.flush();
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(path, ec);
-    if (ec) throw std::runtime_error(path + ": cannot write before the checkpoint");
+    if (ec) throw InputError(path + ": cannot write before the checkpoint (" + ec.message() + ")");
     return static_cast<std::uint64_t>(size);
   };
   state.energy_bytes = bytes(energy_, energy_path_);
@@ -638,11 +638,11 @@ void RunOutput::write_status(const std::string& line) {
     std::ofstream f(tmp, std::ios::trunc);
     f << line << "\n";
     f.flush();
-    if (!f) throw std::runtime_error(tmp + ": cannot write");
+    if (!f) throw InputError(tmp + ": cannot write (" + errno_reason() + ")");
   }
   std::error_code ec;
   fs::rename(tmp, status_path_, ec);
-  if (ec) throw std::runtime_error(status_path_ + ": cannot write (" + ec.message() + ")");
+  if (ec) throw InputError(status_path_ + ": cannot write (" + ec.message() + ")");
 }
 
 int run_case(const Case& c, const RunOptions& options) {
@@ -793,7 +793,7 @@ int run_case(const Case& c, const RunOptions& options) {
     out.write_status(std::string("failed: ") +
                      (b.kind == BlowUp::Kind::EnergyLimit ? "energy balance failure" : "numerical blow-up") +
                      " at t = " + meshing::format_number(b.time) + " s: " + b.reason);
-    return kExitFailure;
+    return kExitRunFailed;
   }
   out.finish();
   write_run_summary(summary_path, run_summary(solver));

@@ -326,7 +326,8 @@ TEST(Restart, AFailedCheckpointWriteLeavesThePreviousCheckpoint) {
   // before anything touches plate.chk.
   fs::create_directory(d / "a" / "plate.chk.tmp");
   r = run_hexdem(d, "run " + c.string() + " -o " + (d / "a").string() + " -q --set load.0.p0=3e6");
-  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(r.code, 2) << "an output that cannot be written: " << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("plate.chk.tmp: cannot write checkpoint"), std::string::npos) << r.err;
   EXPECT_TRUE(slurp(d / "a" / "plate.chk") == before) << "the previous checkpoint was changed";
   fs::remove(d / "a" / "plate.chk.tmp");
@@ -601,7 +602,7 @@ TEST(Sweep, DocumentedExampleStudyIsValid) {
 TEST(Sweep, ListModeDryRunAndFailingMembers) {
   const fs::path d = test_dir("cli_workflow", true);
   write(d, "plate.toml", plate_case("plane-stress"));
-  // Two members: a stable step and an unstable one that blows up (exit 1).
+  // Two members: a stable step and an unstable one that blows up (exit 4).
   const fs::path study = write(d, "steps.toml", R"([study]
 case = "plate.toml"
 combine = "list"
@@ -621,20 +622,20 @@ values = ["small", "large"]
   EXPECT_EQ(slurp(d / "dry" / "commands.txt"), r.out);
   // Nothing ran: --collect finds no member (exit code -1 each) and reports failure.
   r = run_hexdem(d, "sweep " + study.string() + " --collect -q -o " + (d / "dry").string());
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 4);
   EXPECT_NE(slurp(d / "dry" / "steps.csv").find("\n2,1e-06,\"\"\"large\"\"\",-1,,"), std::string::npos)
       << slurp(d / "dry" / "steps.csv");
 
   r = run_hexdem(d, "sweep " + study.string() + " --jobs 2 -q -o " + (d / "out").string());
-  EXPECT_EQ(r.code, 1) << "a member failed: " << r.err;
+  EXPECT_EQ(r.code, 4) << "a member failed: " << r.err;
   EXPECT_EQ(slurp(d / "out" / "member-001" / "exit_code"), "0\n");
-  EXPECT_EQ(slurp(d / "out" / "member-002" / "exit_code"), "1\n");
+  EXPECT_EQ(slurp(d / "out" / "member-002" / "exit_code"), "4\n");
   EXPECT_NE(slurp(d / "out" / "member-002" / "run.log").find("numerical blow-up"), std::string::npos);
   const std::vector<std::string> rows = lines(slurp(d / "out" / "steps.csv"));
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0].rfind("member,time.dt,case.name,exit_code,time,step,kinetic,", 0), 0u) << rows[0];
   EXPECT_EQ(rows[1].rfind("1,1e-07,\"\"\"small\"\"\",0,", 0), 0u) << rows[1];
-  EXPECT_EQ(rows[2].rfind("2,1e-06,\"\"\"large\"\"\",1,,", 0), 0u) << "no values for a failed member: " << rows[2];
+  EXPECT_EQ(rows[2].rfind("2,1e-06,\"\"\"large\"\"\",4,,", 0), 0u) << "no values for a failed member: " << rows[2];
   EXPECT_TRUE(fs::exists(d / "out" / "member-001" / "small.summary.csv"));
 }
 

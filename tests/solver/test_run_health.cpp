@@ -357,7 +357,7 @@ TEST(RunHealth, HexdemRunRecordsTheStatusAndTheAnalysisRefusesAFailedSeries) {
   const std::string run = std::string(HEXDEM_BINARY) + " run " + (dir / "leaky.toml").string() + " --out " +
                           (dir / "out").string() + " --quiet 2> " + (dir / "stderr.txt").string();
   const int rc = std::system(run.c_str());
-  EXPECT_EQ(WEXITSTATUS(rc), 1);
+  EXPECT_EQ(WEXITSTATUS(rc), kExitRunFailed) << "a run that stops as a failure: exit 4";
   std::ifstream status(dir / "out" / "family.status");
   std::string line;
   std::getline(status, line);

@@ -242,7 +242,7 @@ TEST(Stability, RotationModelOnMaterialBBlowsUpWhenAllowed) {
   RunOptions ro;
   ro.out_dir = dir.string();
   ro.quiet = true;
-  EXPECT_EQ(run_case(c, ro), 1) << "the unstable lattice ran to the end without blowing up";
+  EXPECT_EQ(run_case(c, ro), kExitRunFailed) << "the unstable lattice ran to the end without blowing up";
 }
 
 TEST(Stability, RotationModelIsRefusedForPlaneStrainSteel) {
@@ -286,7 +286,7 @@ TEST(Stability, CriticalStepSeparatesStableFromUnstable) {
       EXPECT_EQ(code, 0) << "a run 5 % below the critical step failed";
       continue;
     }
-    EXPECT_EQ(code, 1) << "a run 5 % above the critical step did not blow up";
+    EXPECT_EQ(code, kExitRunFailed) << "a run 5 % above the critical step did not blow up";
     // The .pvd lists complete frames only, and the last one is finite.
     std::ifstream pvd(dir / "above.pvd");
     std::stringstream ss;

@@ -20,12 +20,16 @@ public:
 /// Exit codes of the `hexdem` program.
 enum ExitCode : int {
   kExitOk = 0,
-  kExitFailure = 1,     ///< internal error or numerical failure
+  kExitFailure = 1,     ///< internal error: a bug (a broken invariant, an unexpected exception)
   kExitInputError = 2,  ///< bad input (InputError)
   /// The run reached its end time, but a run-health warning fired on the way (its energy
   /// balance passed `[time] energy_warning`): the series is complete and its numbers may be
   /// wrong. `<case>.status` says `completed with warning: ...`.
   kExitWarning = 3,
+  /// The run stopped before its end: a numerical blow-up or an energy balance failure (above
+  /// `[time] energy_limit`). The last good frame is kept and named, `<case>.status` says
+  /// `failed: ...`. `hexdem sweep` exits with it when a member did not run to its end.
+  kExitRunFailed = 4,
 };
 
 }  // namespace hexdem

@@ -78,7 +78,7 @@ struct TimeControl {
   bool allow_unstable = false;    ///< accept a dt above the critical step (stability study)
   double mass_damping = 0;        ///< alpha of Eq. 18 [1/s]
   /// Run health (docs/case-format.md): |energy error| above energy_warning warns once, above
-  /// energy_limit stops the run as a failure (exit 1). Fractions of the input energy [-].
+  /// energy_limit stops the run as a failure (exit 4). Fractions of the input energy [-].
   double energy_warning = 0.01;
   double energy_limit = 0.05;
 };
