@@ -1,6 +1,8 @@
 // hexdem: the command-line program. Subcommands: mesh, run, check, sweep, bench, post.
-// Exit codes: 0 success, 1 internal or numerical failure, 2 bad input (one-line message), 3 a run
-// (or sweep) that reached its end with a run-health warning (energy balance above energy_warning).
+// Exit codes: 0 success, 1 internal error (a bug), 2 bad input or an output that cannot be written
+// (one-line message), 3 a run (or sweep) that reached its end with a run-health warning (energy
+// balance above energy_warning), 4 a run that stopped as a failure (numerical blow-up, energy
+// balance above energy_limit; a sweep with a member that did not run to its end).
 #include <CLI/CLI.hpp>
 #include <omp.h>
 #include <unistd.h>
@@ -179,9 +181,10 @@ int main(int argc, char** argv) {
   RunArgs run;
   CLI::App* run_cmd = app.add_subcommand("run", "Mesh and run a case file; write a .pvd series, energy and probe CSVs");
   run_cmd->footer(
-      "Exit codes: 0 done; 1 numerical blow-up or energy balance failure ([time] energy_limit; the last\n"
+      "Exit codes: 0 done; 4 numerical blow-up or energy balance failure ([time] energy_limit; the last\n"
       "good frame is kept); 2 bad input or an output that cannot be written; 3 done, but the energy\n"
-      "balance passed [time] energy_warning on the way (<case>.status: completed with warning).");
+      "balance passed [time] energy_warning on the way (<case>.status: completed with warning);\n"
+      "1 internal error (a bug).");
   run_cmd->add_option("case", run.case_file, "Case file (.toml)")->required();
   run_cmd->add_option("-o,--out", run.out_dir, "Output folder (default: <case name>-output)");
   run_cmd->add_option("-j,--threads", run.threads, "OpenMP threads (default: all)")
