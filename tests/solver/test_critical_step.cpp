@@ -96,4 +96,59 @@ TEST(CriticalStep, NoBandForAxisymmetricOrSmallModels) {
   EXPECT_EQ(ss.finite_estimate_disks(), ss.model().num_disks());
 }
 
+TEST(CriticalStep, ThinSlitAndALightDiskStayInTheBand) {
+  // A slit 0.3 r wide across the plate (in place of the hole): the disks beside it lose their
+  // bonds across it or become semi-disks, and none keeps six bonds with a cut cell (which the
+  // band would seed as irregular anyway: a lighter disk could carry a mode above the bulk's).
+  // The band holds the largest mode.
+  std::string cs = plate_case("plane-strain", "local-strain");
+  const std::string circle = "type = \"circle\"\nrole = \"hole\"\ncenter = [0.025, 0.02]\nradius = 0.004\n";
+  cs.replace(cs.find(circle), circle.size(),
+             "type = \"rectangle\"\nrole = \"hole\"\nmin = [0.01, 0.02]\nmax = [0.03, 0.02003]\n");
+  const Case c = parse_case(cs, "slit.toml", HEXDEM_SOURCE_DIR);
+  Solver s(c, mesh_case(c));
+  const Model& m = s.model();
+  std::size_t cut_cells = 0;
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    const double hexagon = 2 * 1.7320508075688772935 * m.radius[i] * m.radius[i];
+    if (m.initial_bonds(i) == 6 && m.kind[i] == 0 && m.cell_area[i] < hexagon * (1 - 1e-9)) ++cut_cells;
+  }
+  EXPECT_EQ(cut_cells, 0U) << "disks with six bonds and a cut cell";
+  std::size_t band_disks = 0;
+  const auto band = s.band_omega2_max(16, 3, &band_disks);
+  ASSERT_TRUE(band.has_value());
+  const double whole = s.finite_omega2_max();
+  const double bulk = 4.0 / (s.time_step().dt_bloch * s.time_step().dt_bloch);
+  std::printf("slit: %zu disks, band %zu; omega^2 max: whole %.10g (%.4f x Bloch), band %.10g (%.2e)\n",
+              m.num_disks(), band_disks, whole, whole / bulk, *band, *band / whole - 1);
+  EXPECT_GT(whole / bulk, 1.02) << "an edge mode: the solver takes the band";
+  EXPECT_EQ(s.finite_estimate_disks(), band_disks);
+  EXPECT_NEAR(*band / whole, 1.0, 1e-6);
+  EXPECT_EQ(s.dt(), step_from(c, s, whole));
+
+  // The guard: one disk in the bulk, 10 mm (50 bonds) from every edge, made four times
+  // lighter (its cell a quarter of the hexagon) carries a mode far above the edge's; the band
+  // seeds it as irregular and holds that mode too.
+  Model& mm = s.model();
+  std::size_t light = 0;
+  double best = 1e300;
+  for (std::size_t i = 0; i < mm.num_disks(); ++i) {
+    const double d = std::hypot(mm.x0[i] - 0.02, mm.y0[i] - 0.03);
+    if (d < best) {
+      best = d;
+      light = i;
+    }
+  }
+  ASSERT_EQ(mm.initial_bonds(light), 6);
+  mm.cell_area[light] *= 0.25;
+  mm.mass[light] *= 0.25;
+  const double whole_light = s.finite_omega2_max();
+  const auto band_light = s.band_omega2_max(16, 3);
+  ASSERT_TRUE(band_light.has_value());
+  std::printf("a light disk: whole %.10g (%.4f x Bloch), band %.10g (%.2e)\n", whole_light, whole_light / bulk,
+              *band_light, *band_light / whole_light - 1);
+  EXPECT_GT(whole_light, 1.1 * whole) << "the light disk's mode is the largest";
+  EXPECT_NEAR(*band_light / whole_light, 1.0, 1e-6) << "the band holds the light disk's mode";
+}
+
 }  // namespace
