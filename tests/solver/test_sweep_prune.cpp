@@ -377,6 +377,33 @@ TEST(SweepPrune, ExactTiesCountAsOverlap) {
   EXPECT_EQ(sp.pairs(), (PairList{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}));
 }
 
+TEST(SweepPrune, SignedZerosNegativesAndManyTies) {
+  // Hundreds of disks on a few coordinates, negative ones, -0.0 and 1e-300 among them:
+  // point-sized boxes (r = 0, no margin) overlap exactly when their disks sit at one point
+  // (-0.0 and +0.0 being one point), then boxes of radius 0.5 after a full rebuild.
+  std::mt19937_64 rng(5);
+  const double coords[] = {-2.5, -1.0, -0.0, 0.0, 1.0, 1e-300, -1e-300};
+  for (const std::size_t n : {40U, 200U, 700U}) {
+    Disks d;
+    for (std::size_t i = 0; i < n; ++i) d.push(coords[rng() % 7], coords[rng() % 7], 0.0);
+    Model model;
+    model.build(d, 0.0);
+    SweepPrune sp;
+    sp.build(d.x.data(), d.y.data(), d.r.data(), n, 0.0);
+    ASSERT_NO_FATAL_FAILURE(expect_consistent(sp, model, d, {})) << n << " disks";
+    // Boxes of radius 0.5 on the same points, and the rebuild path after moves.
+    for (double& r : d.r) r = 0.5;
+    SweepPrune again;
+    again.set_rebuild_fraction(0.0);
+    again.build(d.x.data(), d.y.data(), d.r.data(), n, 0.0);
+    for (std::size_t i = 0; i < n; i += 3) d.x[i] = -d.x[i];
+    model.build(d, 0.0);
+    again.update(d.x.data(), d.y.data(), d.r.data());
+    ASSERT_TRUE(again.stats().rebuilt);
+    ASSERT_NO_FATAL_FAILURE(expect_consistent(again, model, d, {})) << n << " disks, rebuilt";
+  }
+}
+
 TEST(SweepPrune, MarginRuleAndReturnValue) {
   Disks d;
   d.push(0, 0, 1);
