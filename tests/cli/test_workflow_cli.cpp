@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "common/edge_band_plate.hpp"
 
 namespace {
 
@@ -462,40 +463,7 @@ TEST(Check, NamesTheModelOfTheCriticalStepEstimate) {
   EXPECT_EQ(r.out.find("whole model: finite model"), std::string::npos) << "nothing to compare: " << r.out;
   // A 40 x 40 mm plate of r = 0.1 mm (44,739 disks) whose edge mode lies 12 % above the
   // bulk's top: the edge band, and with --whole-model-step both estimates.
-  const fs::path band = write(d, "band.toml", R"([case]
-geometry = "plane-strain"
-thickness = 0.01
-[lattice]
-radius = 0.1e-3
-angle = 7.0
-[[body]]
-name = "plate"
-[[body.shape]]
-type = "rectangle"
-min = [0, 0]
-max = [0.04, 0.04]
-boundary = { bottom = "base", top = "top", left = "mirror", right = "side" }
-[[body.shape]]
-type = "circle"
-role = "hole"
-center = [0.025, 0.02]
-radius = 0.004
-[[material]]
-id = 1
-name = "concrete"
-density = 2400.0
-E = 30e9
-nu = 0.2
-[[boundary]]
-set = "base"
-type = "fixed"
-[[boundary]]
-set = "mirror"
-type = "symmetry"
-component = "x"
-[time]
-end = 1e-3
-)");
+  const fs::path band = write(d, "band.toml", edge_band_plate_case("plane-strain", "local-strain"));
   r = run_hexdem(d, "check " + band.string() + " --whole-model-step");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("finite model: Lanczos on the edge band, 17035 of 44739 disks"), std::string::npos) << r.out;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <string>
 
+#include "common/edge_band_plate.hpp"
 #include "hexdem/solver/case_toml.hpp"
 #include "hexdem/solver/solver.hpp"
 
@@ -18,19 +19,9 @@ namespace {
 using namespace hexdem;
 using namespace hexdem::solver;
 
-/// A 40 x 40 mm plate of r = 0.1 mm (about 46,000 disks) with a hole, fixed at its base, a
-/// symmetry plane on its left edge (rollers with mirror springs), a lattice turned by 7
-/// degrees.
+/// The edge band's test plate (tests/common/edge_band_plate.hpp).
 std::string plate_case(const std::string& geometry, const std::string& shear_model) {
-  return "[case]\ngeometry = \"" + geometry + "\"\nthickness = 0.01\nshear_model = \"" + shear_model +
-         "\"\n[lattice]\nradius = 0.1e-3\nangle = 7.0\n[[body]]\nname = \"plate\"\n"
-         "[[body.shape]]\ntype = \"rectangle\"\nmin = [0, 0]\nmax = [0.04, 0.04]\n"
-         "boundary = { bottom = \"base\", top = \"top\", left = \"mirror\", right = \"side\" }\n"
-         "[[body.shape]]\ntype = \"circle\"\nrole = \"hole\"\ncenter = [0.025, 0.02]\nradius = 0.004\n"
-         "[[material]]\nid = 1\nname = \"concrete\"\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
-         "[[boundary]]\nset = \"base\"\ntype = \"fixed\"\n"
-         "[[boundary]]\nset = \"mirror\"\ntype = \"symmetry\"\ncomponent = \"x\"\n"
-         "[time]\nend = 1e-3\n";  // about 24,000 steps: the step count sees a change of omega^2 of 1e-4
+  return hexdem::testing::edge_band_plate_case(geometry, shear_model);
 }
 
 /// The solver's step from the whole model's Lanczos value omega2 (choose_time_step's rule).
