@@ -213,11 +213,27 @@ private:
 /// need not be thread-safe), compresses the blocks of a batch in parallel, writes them in order.
 class BlockEncoder {
 public:
+  /// What the encoder keeps from one write to the next on its thread: the compressors and the
+  /// batch buffers. Allocating them (and first touching their pages) for every frame of a
+  /// series cost more than compressing the warhead's small frames (docs/benchmarks.md,
+  /// "Output"); held: about 2 x 4 MiB plus the compressors, per thread that writes.
+  struct Cache {
+    int level = -1;
+    int threads = 0;
+    std::unique_ptr<Compressors> zlib;
+    std::vector<std::uint64_t> raw, packed;
+    std::vector<std::size_t> sizes;
+  };
+
   BlockEncoder(AtomicFile& file, const WriteOptions& options)
-      : file_(file),
-        block_size_(options.block_size),
-        threads_(max_threads()),
-        zlib_(threads_, options.compression_level) {}
+      : file_(file), block_size_(options.block_size), threads_(max_threads()), cache_(thread_cache()) {
+    if (!cache_.zlib || cache_.level != options.compression_level || cache_.threads != threads_) {
+      cache_.zlib.reset();  // a failed allocation below leaves no half-made compressors behind
+      cache_.zlib = std::make_unique<Compressors>(threads_, options.compression_level);
+      cache_.level = options.compression_level;
+      cache_.threads = threads_;
+    }
+  }
 
   /// Writes one array (header + blocks) at the current end of the file.
   void encode(const Encoded& e) {
@@ -238,11 +254,13 @@ public:
     const std::size_t batch_blocks = std::min(
         std::max<std::size_t>(num_blocks, 1),
         std::max<std::size_t>({1, kBatchBytes / block_bytes, 4 * static_cast<std::size_t>(threads_)}));
-    const std::size_t bound = zlib_.bound(block_bytes);
+    Compressors& zlib = *cache_.zlib;
+    const std::size_t bound = zlib.bound(block_bytes);
     reserve(batch_blocks * block_bytes, batch_blocks * bound);
-    auto* raw = reinterpret_cast<unsigned char*>(raw_.data());
-    auto* packed = reinterpret_cast<unsigned char*>(packed_.data());
-    sizes_.assign(batch_blocks, 0);
+    auto* raw = reinterpret_cast<unsigned char*>(cache_.raw.data());
+    auto* packed = reinterpret_cast<unsigned char*>(cache_.packed.data());
+    std::vector<std::size_t>& sizes = cache_.sizes;
+    sizes.assign(batch_blocks, 0);
 
     for (std::size_t b0 = 0; b0 < num_blocks; b0 += batch_blocks) {
       const std::size_t nb = std::min(batch_blocks, num_blocks - b0);
@@ -255,13 +273,12 @@ public:
       for (std::int64_t k = 0; k < n; ++k) {
         const auto kk = static_cast<std::size_t>(k);
         const std::size_t len = std::min(block_bytes, filled - kk * block_bytes);
-        sizes_[kk] = zlib_.compress(thread_id(), raw + kk * block_bytes, len,
-                                    packed + kk * bound, bound);
+        sizes[kk] = zlib.compress(thread_id(), raw + kk * block_bytes, len, packed + kk * bound, bound);
       }
       for (std::size_t k = 0; k < nb; ++k) {
-        if (sizes_[k] == 0) throw std::runtime_error("zlib: compression failed");
-        header[3 + b0 + k] = sizes_[k];
-        file_.write(packed + k * bound, sizes_[k]);
+        if (sizes[k] == 0) throw std::runtime_error("zlib: compression failed");
+        header[3 + b0 + k] = sizes[k];
+        file_.write(packed + k * bound, sizes[k]);
       }
     }
     if (num_blocks != 0)
@@ -284,21 +301,23 @@ private:
     return 0;
 #endif
   }
+  static Cache& thread_cache() {
+    static thread_local Cache cache;
+    return cache;
+  }
   void reserve(std::size_t raw_bytes, std::size_t packed_bytes) {
-    // 8-byte words keep every scalar type aligned for the fill callbacks.
+    // 8-byte words keep every scalar type aligned for the fill callbacks. The buffers only
+    // grow: a later, smaller write reuses them.
     const std::size_t raw_words = (raw_bytes + 7) / 8;
     const std::size_t packed_words = (packed_bytes + 7) / 8;
-    if (raw_.size() < raw_words) raw_.resize(raw_words);
-    if (packed_.size() < packed_words) packed_.resize(packed_words);
+    if (cache_.raw.size() < raw_words) cache_.raw.resize(raw_words);
+    if (cache_.packed.size() < packed_words) cache_.packed.resize(packed_words);
   }
 
   AtomicFile& file_;
   std::size_t block_size_;
   int threads_;
-  Compressors zlib_;
-  std::vector<std::uint64_t> raw_;
-  std::vector<std::uint64_t> packed_;
-  std::vector<std::size_t> sizes_;
+  Cache& cache_;
 };
 
 void check_source(const std::string& path, const std::string& group, const ArraySource& a,

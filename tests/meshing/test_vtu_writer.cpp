@@ -33,6 +33,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "hexdem/io/vtu_writer.hpp"
@@ -466,6 +467,28 @@ TEST(VtuWriter, CompressionLevelsAndThreadCountsGiveSameContent) {
       std::invalid_argument);
   EXPECT_THROW(hexdem::io::write_vtu((dir / "bad.vtu").string(), g, WriteOptions{1, 0}),
                std::invalid_argument);
+}
+
+TEST(VtuWriter, RepeatedWritesReuseTheirBuffersAndGiveTheSameBytes) {
+  // The writer keeps its compressors and batch buffers from one write to the next on each
+  // thread: a small write after a large one (buffers larger than it needs, holding the large
+  // one's bytes), the large one again, and a write from another thread (its own buffers) give
+  // the bytes of the first writes.
+  const fs::path dir = work_dir("repeat");
+  const Ring small(500), large(60000);
+  const LineGrid gs = small.grid(true, false), gl = large.grid(true, false);
+  auto write = [&dir](const LineGrid& g, const std::string& name) {
+    hexdem::io::write_vtu((dir / name).string(), g);
+    return read_bytes(dir / name);
+  };
+  const std::string s1 = write(gs, "s1.vtu"), l1 = write(gl, "l1.vtu");
+  EXPECT_EQ(write(gs, "s2.vtu"), s1);
+  EXPECT_EQ(write(gl, "l2.vtu"), l1);
+  std::string s3;
+  std::thread other([&] { s3 = write(gs, "s3.vtu"); });
+  other.join();
+  EXPECT_EQ(s3, s1);
+  expect_points(read_vtu(dir / "s2.vtu"), small.x, small.y, &small.z);
 }
 
 TEST(VtuWriter, AtomicWriteLeavesNoTemporaryFile) {
