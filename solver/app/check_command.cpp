@@ -72,7 +72,7 @@ int run_check(const CheckArgs& a) {
     // The band's estimate against the whole model's (docs/model.md, "Time integration").
     const double dt_finite = ts.dt_finite;
     const double w2 = s.finite_omega2_max();
-    const double dt_whole = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : dt_finite;
+    const double dt_whole = w2 > 0 ? solver::finite_model_step(w2) : dt_finite;
     std::printf("  whole model: finite model %.9g s against the band's %.9g s (%+.2e)\n", dt_whole, dt_finite,
                 dt_finite / dt_whole - 1);
   }

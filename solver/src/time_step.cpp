@@ -199,12 +199,18 @@ double lanczos_omega2_max(Model& m, int max_iterations, int& iterations) {
 
 }  // namespace
 
+double finite_model_step(double omega2_max) {
+  // Ritz values converge from below: allow 2 % for what the iteration has not reached.
+  return omega2_max > 0 ? 2.0 / std::sqrt(1.02 * omega2_max) : std::numeric_limits<double>::infinity();
+}
+
 double Solver::finite_omega2_max(int max_iterations) {
   return lanczos_omega2_max(model_, max_iterations, dt_info_.finite_iterations);
 }
 
 // The edge band. A lattice's largest eigenfrequency above the Bloch value of its bulk belongs
-// to a mode that lives on its irregular disks (free edges, semi-disks, held or mirrored disks)
+// to a mode that lives on its irregular disks (free edges, semi-disks, held or mirrored disks,
+// disks whose cell is not the whole hexagon)
 // and decays into the regular lattice within a few rows, for it lies above the bulk's band
 // (docs/benchmarks.md, "Set-up"). The Lanczos estimate on the disks within `width` bonds of
 // an irregular disk, with the disks beyond them held, is the largest eigenvalue of a principal
@@ -348,8 +354,7 @@ void Solver::choose_time_step(double w2) {
     info.dt_eq24 = std::min(info.dt_eq24, eq24_time_step(bm.springs, bm.material->density,
                                                          case_.outline.bodies[b].radius.value_or(0.0)));
   }
-  // Ritz values converge from below: allow 2 % for what the iteration has not reached.
-  info.dt_finite = w2 > 0 ? 2.0 / std::sqrt(1.02 * w2) : std::numeric_limits<double>::infinity();
+  info.dt_finite = finite_model_step(w2);
   info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
   // A contact dashpot at a fraction eta of critical damping makes central differences stable
   // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such

@@ -89,6 +89,10 @@ struct BlowUp {
   std::string reason;
 };
 
+/// The finite model's critical step 2 / sqrt(1.02 omega2_max) [s] from a Lanczos estimate of
+/// omega_max^2 [1/s^2] (the 2 % for what the iteration has not reached); infinite for 0.
+[[nodiscard]] double finite_model_step(double omega2_max);
+
 class Solver {
 public:
   /// Builds the model from the lattice (meshed from case.outline), applies initial
@@ -178,9 +182,9 @@ public:
   [[nodiscard]] double finite_omega2_max(int max_iterations = 200);
   /// The same estimate on the edge band (time_step.cpp, "The edge band"): Lanczos on a model
   /// of the disks within `width` bonds of an irregular disk (an edge, a semi-disk, a held
-  /// or mirrored disk), with `halo` rings of held disks around it. Empty when the band
-  /// does not apply (axisymmetric models, bonds with their own stiffness) or holds more
-  /// than half the disks. `band_disks` receives the band's size (disks free to move).
+  /// or mirrored disk, a disk whose cell is not the whole hexagon), with `halo` rings of held
+  /// disks around it. Empty when the band does not apply (axisymmetric models, bonds with
+  /// their own stiffness) or holds more than half the disks. `band_disks` receives the band's size (disks free to move).
   [[nodiscard]] std::optional<double> band_omega2_max(int width, int halo, std::size_t* band_disks = nullptr,
                                                       int max_iterations = 200);
   /// Disks of the model the critical step's Lanczos estimate ran on (the edge band or all).
