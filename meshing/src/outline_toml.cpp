@@ -168,7 +168,7 @@ Reader::Defaults Reader::read_lattice(const toml::table& lattice) const {
   Defaults defaults;
   if (const toml::node* n = lattice.get("radius"))
     defaults.radius = positive(*n, "lattice.radius") * factor_;
-  if (const toml::node* n = lattice.get("angle")) defaults.angle_deg = number(*n, "lattice.angle");
+  if (const toml::node* n = lattice.get("angle")) defaults.angle_deg = angle(*n, "lattice.angle");
   if (const toml::node* n = lattice.get("origin"))
     defaults.origin = scaled(point(*n, "lattice.origin"), factor_);
   return defaults;
@@ -206,7 +206,7 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
     throw InputError(source_ + ": body '" + escape_text(body.name) +
                      "': no disk radius (give --radius or [lattice] radius)");
   if (const toml::node* n = table.get("angle")) {
-    body.angle_deg = number(*n, path + ".angle");
+    body.angle_deg = angle(*n, path + ".angle");
   } else {
     body.angle_deg = options_.angle_deg ? options_.angle_deg : defaults.angle_deg;
   }

@@ -190,6 +190,12 @@ double TomlValues::positive(const toml::node& node, const std::string& path) con
   return value;
 }
 
+double TomlValues::angle(const toml::node& node, const std::string& path) const {
+  const double value = number(node, path);
+  if (!(std::abs(value) <= kMaxAngle)) fail(node, path, "must lie in [-360, 360] degrees (got " + describe(node) + ")");
+  return value;
+}
+
 std::string TomlValues::text(const toml::node& node, const std::string& path) const {
   const auto* s = node.as_string();
   if (s == nullptr) fail(node, path, "expected a string (got " + describe(node) + ")");

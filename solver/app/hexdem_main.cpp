@@ -24,6 +24,7 @@
 #include "hexdem/meshing/lattice_vtu.hpp"
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
+#include "hexdem/meshing/toml_values.hpp"
 #include "hexdem/meshing/text.hpp"
 #include "hexdem/post/post_command.hpp"
 #include "hexdem/solver/case_toml.hpp"
@@ -164,7 +165,8 @@ int main(int argc, char** argv) {
   mesh_cmd->add_option("outline", mesh.outline, "Outline file (.toml or .dxf)")->required();
   mesh_cmd->add_option("-o,--output", mesh.output, "Output .vtu (default: <outline name>.vtu)");
   mesh_cmd->add_option("-r,--radius", mesh.radius, "Disk radius r [m] (overrides the file's [lattice])");
-  mesh_cmd->add_option("-a,--angle", mesh.angle, "Lattice axis angle from x [degrees]");
+  mesh_cmd->add_option("-a,--angle", mesh.angle, "Lattice axis angle from x [degrees]")
+      ->check(CLI::Range(-meshing::TomlValues::kMaxAngle, meshing::TomlValues::kMaxAngle));
   mesh_cmd->add_option("--origin", mesh.origin, "A lattice point X Y [m]")->expected(2);
   mesh_cmd->add_flag("--axisymmetric", mesh.axisymmetric,
                      "Axisymmetric mode: x is the radius r >= 0, y the axis z");

@@ -233,7 +233,7 @@ constexpr std::array<Key<MeshSettings>, 7> kMeshKeys{{
      }},
     {"angle", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
-       m.options.angle_deg = in.number(v, p);
+       m.options.angle_deg = in.angle(v, p);
      }},
     {"origin", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) {

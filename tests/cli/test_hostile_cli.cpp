@@ -96,6 +96,34 @@ TEST(HostileCli, ThreadCountIsBounded) {
   EXPECT_EQ(run_hexdem(dir, "mesh " + quote(outline) + " -j -3").code, 2);
 }
 
+TEST(HostileCli, LatticeAnglesBeyondATurnAreRefusedNamingTheKey) {
+  // Was: `--set mesh.angle=1e308` overflowed the radians and blamed the disk radius ("too
+  // large for the region (-inf x -inf m)"), and `hexdem mesh --angle 1e300` meshed at
+  // whatever angle the rounding of 1e300 degrees left.
+  const fs::path dir = work_dir();
+  const std::string outline_text = "[lattice]\nradius = 1e-3\n[[body]]\nname = \"a\"\n"
+                                   "[[body.shape]]\ntype = \"rectangle\"\nmin = [0, 0]\nmax = [0.01, 0.01]\n";
+  const fs::path outline = write(dir, "angle.toml", outline_text);
+  const fs::path plate = write(dir, "angle_case.toml", plate_case("", "end = 1e-6"));
+  expect_input_error(run_hexdem(dir, "run " + quote(plate) + " --set mesh.angle=1e308"), "mesh.angle: must lie in [-360, 360] degrees (got 1e+308)");
+  expect_input_error(run_hexdem(dir, "run " + quote(plate) + " --set mesh.angle=-361"), "mesh.angle");
+  std::string lattice_case = plate_case("", "end = 1e-6");
+  lattice_case.replace(lattice_case.find("radius = 0.5e-3"), 15, "radius = 0.5e-3\nangle = 400");
+  expect_input_error(run_hexdem(dir, "run " + quote(write(dir, "angle_lattice.toml", lattice_case))),
+                     "lattice.angle: must lie in [-360, 360] degrees (got 400)");
+  const fs::path body = write(dir, "angle_body.toml",
+                              "[lattice]\nradius = 1e-3\n[[body]]\nname = \"a\"\nangle = 1e300\n"
+                              "[[body.shape]]\ntype = \"rectangle\"\nmin = [0, 0]\nmax = [0.01, 0.01]\n");
+  expect_input_error(run_hexdem(dir, "mesh " + quote(body)), "body[0].angle: must lie in [-360, 360] degrees");
+  const Result cli = run_hexdem(dir, "mesh " + quote(outline) + " --angle 1e300 -o " + quote(dir / "angle.vtu"));
+  EXPECT_EQ(cli.code, 2) << cli.err;
+  EXPECT_NE(cli.err.find("--angle"), std::string::npos) << cli.err;
+  EXPECT_FALSE(fs::exists(dir / "angle.vtu"));
+  // A turn and its negative are angles still (the lattice repeats every 60 degrees).
+  EXPECT_EQ(run_hexdem(dir, "mesh " + quote(outline) + " --angle -360 -q -o " + quote(dir / "angle.vtu")).code, 0);
+  EXPECT_EQ(run_hexdem(dir, "run " + quote(plate) + " -q --set mesh.angle=360 -o " + quote(dir / "angle_out")).code, 0);
+}
+
 TEST(HostileCli, DeeplyNestedTomlIsAnErrorNotACrash) {
   // Was: SIGSEGV with nothing printed.
   const fs::path dir = work_dir();

@@ -49,6 +49,10 @@ public:
   [[nodiscard]] double number(const toml::node& node, const std::string& path) const;
   /// A number > 0.
   [[nodiscard]] double positive(const toml::node& node, const std::string& path) const;
+  /// A lattice angle [degrees] in [-kMaxAngle, kMaxAngle] (the lattice repeats every 60
+  /// degrees; beyond a turn a value is a slip, and at 1e308 its radians overflow).
+  [[nodiscard]] double angle(const toml::node& node, const std::string& path) const;
+  static constexpr double kMaxAngle = 360.0;
   /// A string.
   [[nodiscard]] std::string text(const toml::node& node, const std::string& path) const;
   /// A string without control characters (NUL, line breaks, ...): a name.
