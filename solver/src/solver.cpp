@@ -100,7 +100,33 @@ void Solver::setup_nonlocal_strain() {
     radius[b] = mat.nonlocal_radius;
     any = true;
   }
-  if (any) build_nonlocal_strain(model_, radius);
+  if (!any) return;
+  // The rows hold, per disk, the disks of its body within R (12 bytes each): refuse a radius
+  // whose rows would not fit before building them. An interior disk's row holds about
+  // pi R^2 / (2 sqrt(3) r^2) disks, at most its body's.
+  std::vector<double> body_disks(body_materials_.size(), 0.0);
+  for (std::size_t i = 0; i < model_.num_disks(); ++i) body_disks[static_cast<std::size_t>(model_.body[i])] += 1;
+  double entries = 0;
+  for (std::size_t b = 0; b < radius.size(); ++b) {
+    if (!(radius[b] > 0)) continue;
+    const double r = case_.outline.bodies[b].radius.value_or(0.0);
+    const double cell = 2 * std::sqrt(3.0) * r * r;
+    const double row = std::min(std::acos(-1.0) * radius[b] * radius[b] / cell, body_disks[b]);
+    entries += row * body_disks[b];
+    const std::string& name = body_materials_[b].material->name;
+    if (row > NonlocalStrain::kMaxRow)
+      throw InputError(case_.source + ": [[material]] '" + name + "': nonlocal_radius = " + fmt(radius[b], 6) +
+                       " m averages each disk of body '" + case_.outline.bodies[b].name + "' over about " +
+                       fmt(row, 3) + " disks, more than " + fmt(NonlocalStrain::kMaxRow, 6) + " (at this spacing R <= " +
+                       fmt(std::sqrt(NonlocalStrain::kMaxRow * cell / std::acos(-1.0)), 3) +
+                       " m; docs/model.md, \"Nonlocal criterion\")");
+    if (entries > NonlocalStrain::kMaxEntries)
+      throw InputError(case_.source + ": [[material]] '" + name + "': nonlocal_radius = " + fmt(radius[b], 6) +
+                       " m: the averages would hold about " + fmt(entries, 3) + " entries (12 bytes each), more than " +
+                       fmt(NonlocalStrain::kMaxEntries, 6) + "; use a smaller radius or a coarser lattice (docs/model.md, "
+                       "\"Nonlocal criterion\")");
+  }
+  build_nonlocal_strain(model_, radius);
 }
 
 void Solver::refuse_unless_allowed(const std::string& message, const std::string& remedy) {

@@ -175,6 +175,27 @@ TEST(NonlocalStrain, BadRadiiAreRefused) {
   EXPECT_TRUE(refused("nonlocal_radius = -1e-3", "nonlocal_radius"));
   EXPECT_TRUE(refused("nonlocal_radius = 2e-3", "not larger than the spacing 2r"));  // the neighbours' distance
   EXPECT_TRUE(refused("nonlocal_radius = 1e-3", "not larger than the spacing 2r"));
+  // Rows longer than 10,000 disks, and rows whose total would pass 1e9 entries (12 GB), are
+  // refused before they are built. A radius beyond the body is bounded by the body: the
+  // plate's 693 disks average over each other.
+  const auto refused_at = [](double r, const std::string& key, const std::string& needle) {
+    std::string text = plate_case(0.0, key);
+    text.replace(text.find("radius = 1e-3\n"), 14, "radius = " + std::to_string(r) + "\n");
+    try {
+      const Case c = parse_case(text, "plate.toml", ".");
+      Solver s(c, mesh_case(c));
+      EXPECT_EQ(s.model().nonlocal.offset.back(), s.model().nonlocal.nbr.size());
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(needle), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused_at(2e-4, "nonlocal_radius = 25e-3", "over about 1.42e+04 disks, more than 10000"));  // 17,000 disks
+  EXPECT_FALSE(refused_at(1e-3, "nonlocal_radius = 1e9", ""));     // the plate's 693 disks
+  EXPECT_TRUE(refused_at(6.5e-5, "nonlocal_radius = 6.5e-3", "entries (12 bytes each), more than 1e+09"));  // 164,000 x 9,069
   // Only a softening material averages its criteria.
   EXPECT_THROW((void)parse_case(plate_case(0.0, "nonlocal_radius = 4e-3").replace(
                                     plate_case(0.0, "nonlocal_radius = 4e-3").find("fracture_energy = 100.0"),

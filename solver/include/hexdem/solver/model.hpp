@@ -117,6 +117,10 @@ struct LocalStrain {
 /// (1 - d^2/R^2)^2. Empty unless some material has a radius; a disk of a body without one
 /// averages over itself alone (its local strain).
 struct NonlocalStrain {
+  /// Largest row and largest number of entries a case may ask for (Solver refuses a radius
+  /// beyond them as an input error): a row of 10,000 disks is a radius of about 52 spacings 2r, and
+  /// 1e9 entries hold 12 GB (and stay below the 32-bit offsets' 4.29e9).
+  static constexpr double kMaxRow = 1e4, kMaxEntries = 1e9;
   std::vector<std::uint32_t> offset;  ///< per disk + 1: its row of nbr and w
   std::vector<std::int32_t> nbr;      ///< the disks averaged over, in index order
   std::vector<double> w;              ///< their weights, summing to 1 per row [-]
