@@ -25,13 +25,27 @@ namespace {
 /// the strain from the displacements, or its rate from the velocities.
 std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vector<double>& fx,
                                    const std::vector<double>& fy) {
+  // Raw arrays and disk i's own values read once (the compiler reloaded them per bond).
+  const std::int32_t* __restrict adj_entry = m.adj_entry.data();
+  const std::int32_t* __restrict bond_i = m.bi.data();
+  const std::int32_t* __restrict bond_j = m.bj.data();
+  const std::uint8_t* __restrict state = m.state.data();
+  const std::uint8_t* __restrict cracking = m.any_softening ? m.cracks.cracking.data() : nullptr;
+  const std::uint8_t* __restrict ok = m.strain.ok.data();
+  const double* __restrict x0 = m.x0.data();
+  const double* __restrict y0 = m.y0.data();
+  const double* __restrict f_x = fx.data();
+  const double* __restrict f_y = fy.data();
+  const double x_i = x0[i], y_i = y0[i], fx_i = f_x[i], fy_i = f_y[i];
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-    const auto b = m.adj_bond(k);
-    const auto o = m.adj_other(i, k);
-    if (!m.bond_in_fit(b) || !m.strain.ok[o]) continue;
-    const double ax = m.x0[o] - m.x0[i], ay = m.y0[o] - m.y0[i];  // Model::adj_ax
-    const double dux = fx[o] - fx[i], duy = fy[o] - fy[i];
+    const std::int32_t e = adj_entry[k];  // Model::adj_bond
+    const auto b = static_cast<std::size_t>(e >= 0 ? e : ~e);
+    const auto o = static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ i;  // Model::adj_other
+    // Model::bond_in_fit and a neighbour with a fit.
+    if (state[b] > 1 || (cracking != nullptr && cracking[b]) || !ok[o]) continue;
+    const double ax = x0[o] - x_i, ay = y0[o] - y_i;  // Model::adj_ax
+    const double dux = f_x[o] - fx_i, duy = f_y[o] - fy_i;
     gxx += dux * ax;
     gxy += dux * ay;
     gyx += duy * ax;
@@ -842,6 +856,14 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   double* __restrict f_s = m.f_s.data();
   double* __restrict bnx = m.nx.data();
   double* __restrict bny = m.ny.data();
+  // The local-strain model's shear measure (empty in the rotation model).
+  const std::uint8_t* __restrict ok = m.strain.ok.data();
+  const double* __restrict exx = m.strain.eps_xx.data();
+  const double* __restrict eyy = m.strain.eps_yy.data();
+  const double* __restrict exy = m.strain.eps_xy.data();
+  const double* __restrict g_xx = m.g_xx.data();
+  const double* __restrict g_yy = m.g_yy.data();
+  const double* __restrict g_xy = m.g_xy.data();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
@@ -853,7 +875,11 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
     if constexpr (Rotation) {
       f_s[b] += ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
     } else {
-      f_s[b] = ks[kb] * local_shear(m, static_cast<std::size_t>(b));  // u_s is not kept (Model::u_s)
+      // local_shear from the raw arrays (the same arithmetic); u_s is not kept (Model::u_s).
+      const double u_s = ok[i] && ok[j] ? g_xx[b] * (exx[i] + exx[j]) + g_yy[b] * (eyy[i] + eyy[j]) +
+                                              2.0 * g_xy[b] * (exy[i] + exy[j])
+                                        : 0.0;
+      f_s[b] = ks[kb] * u_s;
     }
   }
 }
@@ -893,17 +919,25 @@ void compute_bond_forces(Model& m, double dt, const double* vx, const double* vy
 /// and for J2 disks the plastic correction, -2 mu A w eps_p.
 void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+  const std::int32_t* __restrict adj_offset = m.adj_offset.data();
+  const std::int32_t* __restrict adj_entry = m.adj_entry.data();
+  const std::uint8_t* __restrict state = m.state.data();
+  const double* __restrict f_s = m.f_s.data();
+  const double* __restrict g_xx = m.g_xx.data();
+  const double* __restrict g_yy = m.g_yy.data();
+  const double* __restrict g_xy = m.g_xy.data();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     double sxx = 0, syy = 0, sxy = 0;
     if (shear_springs) {
-      for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-        const auto b = m.adj_bond(k);
-        if (!m.bond_intact(b)) continue;
-        const double fs = m.f_s[b];
-        sxx += fs * m.g_xx[b];
-        syy += fs * m.g_yy[b];
-        sxy += fs * m.g_xy[b];
+      for (auto k = adj_offset[i]; k < adj_offset[i + 1]; ++k) {
+        const std::int32_t e = adj_entry[k];  // Model::adj_bond
+        const auto b = static_cast<std::size_t>(e >= 0 ? e : ~e);
+        if (state[b] > 1) continue;  // !Model::bond_intact
+        const double fs = f_s[b];
+        sxx += fs * g_xx[b];
+        syy += fs * g_yy[b];
+        sxy += fs * g_xy[b];
       }
     }
     if (hoop) {
@@ -933,9 +967,22 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
 template <bool PairShear, bool StrainTerms, bool Hoop, bool Breakable, bool Mirror, bool J2>
 void gather_forces(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  // Raw arrays: the loop writes only fx, fy, torque, which nothing in it reads.
+  // Raw arrays: the loop writes only fx, fy, torque, which nothing in it reads. The disk's
+  // own values are read once, outside its bonds' loop (the same arithmetic: the compiler
+  // could not keep them in registers through the loop's loads).
   const std::int32_t* __restrict offset = m.adj_offset.data();
   const std::int32_t* __restrict adj_entry = m.adj_entry.data();
+  const std::int32_t* __restrict bond_i = m.bi.data();
+  const std::int32_t* __restrict bond_j = m.bj.data();
+  const std::uint8_t* __restrict state = m.state.data();
+  const std::uint8_t* __restrict cracking = m.any_softening ? m.cracks.cracking.data() : nullptr;
+  const std::uint8_t* __restrict ok = m.strain.ok.data();
+  const double* __restrict x0 = m.x0.data();
+  const double* __restrict y0 = m.y0.data();
+  const double* __restrict w_xx = m.strain.w_xx.data();
+  const double* __restrict w_xy = m.strain.w_xy.data();
+  const double* __restrict w_yx = m.strain.w_yx.data();
+  const double* __restrict w_yy = m.strain.w_yy.data();
   const double* __restrict bnx = m.nx.data();
   const double* __restrict bny = m.ny.data();
   const double* __restrict f_n = m.f_n.data();
@@ -946,8 +993,16 @@ void gather_forces(Model& m) {
   double* __restrict out_tq = m.torque.data();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto iu = static_cast<std::size_t>(i);
     double fx = 0, fy = 0, tq = 0;
     const double r_i = radius[i];
+    // Disk i's terms of the strain forces (StrainTerms): its centre, its W and whether it has a fit.
+    double x_i = 0, y_i = 0, wi_xx = 0, wi_xy = 0, wi_yx = 0, wi_yy = 0, co = 0;
+    if constexpr (StrainTerms) {
+      x_i = x0[i], y_i = y0[i];
+      wi_xx = w_xx[i], wi_xy = w_xy[i], wi_yx = w_yx[i], wi_yy = w_yy[i];
+      co = ok[i] ? 1.0 : 0.0;
+    }
     for (auto k = offset[i]; k < offset[i + 1]; ++k) {
       // Model::adj_bond and adj_sign: the entry is b where i is the bond's bi, ~b where bj.
       const std::int32_t e = adj_entry[k];
@@ -956,7 +1011,7 @@ void gather_forces(Model& m) {
       const double nx = bnx[b], ny = bny[b];
       double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
       if constexpr (Breakable) {
-        if (!m.bond_intact(b)) {
+        if (state[b] > 1) {  // !Model::bond_intact
           // A broken bond in contact: pair force with friction and its moment.
           f_x -= f_s[b] * ny;
           f_y += f_s[b] * nx;
@@ -974,14 +1029,14 @@ void gather_forces(Model& m) {
       fx += s * f_x;
       fy += s * f_y;
       if constexpr (StrainTerms) {
-        if (m.bond_in_fit(b)) {
+        if (state[b] <= 1 && (cracking == nullptr || !cracking[b])) {  // Model::bond_in_fit
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
           // The other disk, from the bond's ends (Model::adj_other); Model::adj_ax.
-          const auto o = static_cast<std::size_t>(m.bi[b] ^ m.bj[b]) ^ static_cast<std::size_t>(i);
-          const double ax = m.x0[o] - m.x0[static_cast<std::size_t>(i)], ay = m.y0[o] - m.y0[static_cast<std::size_t>(i)];
-          const double ci = m.strain.ok[o] ? 1.0 : 0.0, co = m.strain.ok[i] ? 1.0 : 0.0;
-          const double wxx = ci * m.strain.w_xx[i] + co * m.strain.w_xx[o], wxy = ci * m.strain.w_xy[i] + co * m.strain.w_xy[o];
-          const double wyx = ci * m.strain.w_yx[i] + co * m.strain.w_yx[o], wyy = ci * m.strain.w_yy[i] + co * m.strain.w_yy[o];
+          const auto o = static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ iu;
+          const double ax = x0[o] - x_i, ay = y0[o] - y_i;
+          const double ci = ok[o] ? 1.0 : 0.0;
+          const double wxx = ci * wi_xx + co * w_xx[o], wxy = ci * wi_xy + co * w_xy[o];
+          const double wyx = ci * wi_yx + co * w_yx[o], wyy = ci * wi_yy + co * w_yy[o];
           fx += wxx * ax + wxy * ay;
           fy += wyx * ax + wyy * ay;
         }
@@ -989,13 +1044,13 @@ void gather_forces(Model& m) {
     }
     if constexpr (Hoop) {
       // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
-      double sigma_tt = hoop_stress(m, i).tt;
-      if constexpr (J2) sigma_tt -= 2 * m.hoop.mu[i] * m.j2.eps_p_33[i];
-      fx -= m.cell_area[i] * sigma_tt;
+      double sigma_tt = hoop_stress(m, iu).tt;
+      if constexpr (J2) sigma_tt -= 2 * m.hoop.mu[iu] * m.j2.eps_p_33[iu];
+      fx -= m.cell_area[iu] * sigma_tt;
     }
     if constexpr (Mirror) {
-      fx -= m.mirror.kx[i] * m.ux[i];
-      fy -= m.mirror.ky[i] * m.uy[i];
+      fx -= m.mirror.kx[iu] * m.ux[iu];
+      fy -= m.mirror.ky[iu] * m.uy[iu];
     }
     out_fx[i] = fx;
     out_fy[i] = fy;
