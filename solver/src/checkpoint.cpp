@@ -63,6 +63,7 @@ void visit_model(M& m, V& v) {
   v.state("minv_xx", m.strain.minv_xx); v.state("minv_xy", m.strain.minv_xy); v.state("minv_yy", m.strain.minv_yy);
   v.state("strain_ok", m.strain.ok);
   v.state("eps_xx", m.strain.eps_xx); v.state("eps_yy", m.strain.eps_yy); v.state("eps_xy", m.strain.eps_xy);
+  v.rebuilt("eps_tt", m.strain.eps_tt);  // the hoop strain of the force passes, from u_r
   v.state("eps_off_xx", m.strain.eps_off_xx); v.state("eps_off_yy", m.strain.eps_off_yy); v.state("eps_off_xy", m.strain.eps_off_xy);
   v.state("hoop_cut", m.hoop.cut); v.state("hoop_const", m.hoop.constant);
   v.state("w_xx", m.strain.w_xx); v.state("w_xy", m.strain.w_xy); v.state("w_yx", m.strain.w_yx); v.state("w_yy", m.strain.w_yy);

@@ -20,6 +20,10 @@
 namespace hexdem::solver {
 namespace {
 
+/// Two doubles in one SSE register: a packed division is correctly rounded in each lane, as
+/// two scalar divisions are (the same bits), and costs the divider one operation.
+using Pair = double __attribute__((vector_size(16)));
+
 /// Least-squares symmetric gradient of the field (fx, fy) at disk i over its intact bonds,
 /// sym((sum_k (f_k - f_i) a_k^T) (sum_k a_k a_k^T)^-1), with the disk's current fit (M^-1):
 /// the strain from the displacements, or its rate from the velocities.
@@ -60,6 +64,7 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
 /// Pass A: least-squares strain of each disk over its intact bonds,
 /// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
 void disk_strain(Model& m, std::size_t i) {
+  if (!m.strain.eps_tt.empty()) m.strain.eps_tt[i] = m.ux[i] / m.disk_weight(i);  // hoop_strain
   const std::array<double, 3> e = fit_gradient(m, i, m.ux, m.uy);
   m.strain.eps_xx[i] = e[0];
   m.strain.eps_yy[i] = e[1];
@@ -134,7 +139,7 @@ void compute_nonlocal_strains(Model& m) {
     e[0] = m.strain.eps_xx[iu];
     e[1] = m.strain.eps_yy[iu];
     e[2] = m.strain.eps_xy[iu];
-    e[3] = axisym ? hoop_strain(m, iu) : 0.0;  // once per disk, not per row entry
+    e[3] = axisym ? m.strain.eps_tt[iu] : 0.0;  // once per disk, not per row entry
   }
   std::fill(nl.cell_max.begin(), nl.cell_max.end(), 0.0);
   for (std::ptrdiff_t i = 0; i < n; ++i) {  // maxima: the same in any order
@@ -206,8 +211,7 @@ double hoop_energy(const Model& m, std::size_t i) {
 struct HoopStress {
   double tt = 0, in_plane = 0;
 };
-inline HoopStress hoop_stress(const Model& m, std::size_t i) {
-  const double eps_tt = hoop_strain(m, i);
+inline HoopStress hoop_stress(const Model& m, std::size_t i, double eps_tt) {
   const double lam = m.hoop.lambda[i], M = lam + 2 * m.hoop.mu[i];
   const double tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
   const double s = M * eps_tt + lam * tr;
@@ -218,6 +222,7 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) {
   const double g = !m.hoop_cracks.damage.empty() && eps_tt > 0 ? 1 - m.hoop_cracks.damage[i] : 1.0;
   return {g * s, g * lam * eps_tt};
 }
+inline HoopStress hoop_stress(const Model& m, std::size_t i) { return hoop_stress(m, i, hoop_strain(m, i)); }
 
 /// Hoop cracking of the rings of softening materials (axisymmetric): Rankine on the hoop
 /// stress s starts it, then the hoop stress softens linearly in e = s / M down to zero at
@@ -235,7 +240,7 @@ void update_hoop_damage(Model& m) {
     const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
     if (!(sp.G_F > 0) || !m.strain.ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
     const double lam = m.hoop.lambda[i], M = lam + 2 * m.hoop.mu[i];
-    const double s = M * hoop_strain(m, i) + lam * (m.strain.eps_xx[i] + m.strain.eps_yy[i]);
+    const double s = M * m.strain.eps_tt[i] + lam * (m.strain.eps_xx[i] + m.strain.eps_yy[i]);
     const double e = s / M;
     const double e_last = m.hoop_cracks.e_last[i];
     m.hoop_cracks.e_last[i] = e;
@@ -253,7 +258,7 @@ void update_hoop_damage(Model& m) {
       // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
       // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
       // dD (E_h - half step of the force drop), the half step taken as for the bonds).
-      const double eps_tt = hoop_strain(m, i), tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
+      const double eps_tt = m.strain.eps_tt[i], tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
       const bool cut = !m.hoop.cut.empty() && m.hoop.cut[i];
       const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
                             : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
@@ -622,12 +627,17 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // Eq. 20: the rate factors at the bond's strain rate; the random field's factor. The
   // factors are >= 1 and only raise the strengths: each criterion is checked at the static
   // strengths first, and the factors (two logarithms) are computed only when it fails there.
+  // The strain rate (a division) is taken only when a criterion needs the factors: below
+  // 1/s they are 1.
   const laws::MohrCoulombFailure& law = m.failure_laws[l];
-  const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
   laws::RateFactors rf;
-  bool rf_known = !(edot > 1.0);
+  bool rf_known = false;
   const auto rate_factors = [&]() -> const laws::RateFactors& {
-    if (!rf_known) rf = law.rate_factors(edot), rf_known = true;
+    if (!rf_known) {
+      const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+      if (edot > 1.0) rf = law.rate_factors(edot);
+      rf_known = true;
+    }
     return rf;
   };
   const double scale = m.strength_factor(b);
@@ -667,9 +677,14 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double exx = wi * gxx[i] + wj * gxx[j], eyy = wi * gyy[i] + wj * gyy[j];
   const double exy = wi * gxy[i] + wj * gxy[j], tr = exx + eyy;
   const bool axisym = m.geometry == Geometry::Axisymmetric;
-  const double ett = axisym ? (nonlocal ? wi * m.nonlocal.eps_tt[i] + wj * m.nonlocal.eps_tt[j]
-                                        : wi * hoop_strain(m, i) + wj * hoop_strain(m, j))
-                            : 0.0;
+  double ett = 0.0;
+  if (axisym) {
+    if (nonlocal) {
+      ett = wi * m.nonlocal.eps_tt[i] + wj * m.nonlocal.eps_tt[j];
+    } else {
+      ett = wi * m.strain.eps_tt[i] + wj * m.strain.eps_tt[j];  // hoop_strain, of this pass
+    }
+  }
   const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
   const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
@@ -709,9 +724,7 @@ inline BondGeometry bond_geometry(const double* __restrict x0, const double* __r
   const double dx = (x0[j] - x0[i]) + (ux[j] - ux[i]);
   const double dy = (y0[j] - y0[i]) + (uy[j] - uy[i]);
   const double len = std::sqrt(dx * dx + dy * dy);
-  // Both components divided in one packed division: correctly rounded as two scalar ones (the
-  // same bits), at the cost of one; the divider was the bond pass's bottleneck.
-  using Pair = double __attribute__((vector_size(16)));
+  // Both components in one packed division (Pair): the divider bounds the bond pass.
   const Pair n = Pair{dx, dy} / Pair{len, len};
   return {len, n[0], n[1]};
 }
@@ -945,7 +958,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
       }
     }
     if (hoop) {
-      const double c = m.cell_area[i] * m.disk_weight(i) * hoop_stress(m, i).in_plane;
+      const double c = m.cell_area[i] * m.disk_weight(i) * hoop_stress(m, i, m.strain.eps_tt[i]).in_plane;
       sxx += c;
       syy += c;
     }
@@ -1048,7 +1061,7 @@ void gather_forces(Model& m) {
     }
     if constexpr (Hoop) {
       // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
-      double sigma_tt = hoop_stress(m, iu).tt;
+      double sigma_tt = hoop_stress(m, iu, m.strain.eps_tt[iu]).tt;
       if constexpr (J2) sigma_tt -= 2 * m.hoop.mu[iu] * m.j2.eps_p_33[iu];
       fx -= m.cell_area[iu] * sigma_tt;
     }

@@ -169,6 +169,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
                     &m.strain.w_yy})
       v->assign(n, 0.0);
     for (auto* v : {&m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
+    if (axisym) m.strain.eps_tt.assign(n, 0.0);
   }
   if (m.any_softening) {
     for (auto* v : {&m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0, &m.cracks.delta_f}) v->assign(nb, 0.0);

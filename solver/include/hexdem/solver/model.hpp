@@ -105,6 +105,10 @@ struct LocalStrain {
   /// flight at a lattice angle of 30 degrees blew up at step 190).
   std::vector<std::uint8_t> ok;
   std::vector<double> eps_xx, eps_yy, eps_xy;  ///< small strain [-]
+  /// Axisymmetric: the hoop strain u_r / b of the last strain pass [-], read by the force
+  /// passes that follow it (one division per disk and step instead of one per use); empty in
+  /// plane models. Work space: everything outside the force passes computes it from u_r.
+  std::vector<double> eps_tt;
   /// Breakable models: the strain carried across changes of a disk's fit,
   /// eps = fit(u) - eps_off (settle_broken_bonds) [-]; empty otherwise.
   std::vector<double> eps_off_xx, eps_off_yy, eps_off_xy;
