@@ -24,31 +24,50 @@ namespace {
 /// two scalar divisions are (the same bits), and costs the divider one operation.
 using Pair = double __attribute__((vector_size(16)));
 
+/// What a loop over a disk's bonds reads of the lattice, as raw pointers taken once per pass:
+/// Model::adj_bond, adj_other, bond_in_fit and the reference centres, without reloading the
+/// vectors' addresses for every bond (the compiler did, through the loops' other loads).
+struct AdjacencyView {
+  const std::int32_t* __restrict entry;
+  const std::int32_t* __restrict bond_i;
+  const std::int32_t* __restrict bond_j;
+  const std::uint8_t* __restrict state;
+  const std::uint8_t* __restrict cracking;  ///< null without softening
+  const std::uint8_t* __restrict ok;        ///< LocalStrain::ok
+  const double* __restrict x0;
+  const double* __restrict y0;
+  explicit AdjacencyView(const Model& m)
+      : entry(m.adj_entry.data()), bond_i(m.bi.data()), bond_j(m.bj.data()), state(m.state.data()),
+        cracking(m.any_softening ? m.cracks.cracking.data() : nullptr), ok(m.strain.ok.data()), x0(m.x0.data()),
+        y0(m.y0.data()) {}
+  /// Model::adj_bond: the bond of adjacency entry k.
+  [[nodiscard]] std::size_t bond(std::int64_t k) const {
+    const std::int32_t e = entry[k];
+    return static_cast<std::size_t>(e >= 0 ? e : ~e);
+  }
+  /// Model::adj_other: the other disk of bond b at disk i.
+  [[nodiscard]] std::size_t other(std::size_t b, std::size_t i) const {
+    return static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ i;
+  }
+  /// Model::bond_in_fit.
+  [[nodiscard]] bool in_fit(std::size_t b) const { return state[b] <= 1 && (cracking == nullptr || !cracking[b]); }
+};
+
 /// Least-squares symmetric gradient of the field (fx, fy) at disk i over its intact bonds,
 /// sym((sum_k (f_k - f_i) a_k^T) (sum_k a_k a_k^T)^-1), with the disk's current fit (M^-1):
 /// the strain from the displacements, or its rate from the velocities.
 std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vector<double>& fx,
                                    const std::vector<double>& fy) {
-  // Raw arrays and disk i's own values read once (the compiler reloaded them per bond).
-  const std::int32_t* __restrict adj_entry = m.adj_entry.data();
-  const std::int32_t* __restrict bond_i = m.bi.data();
-  const std::int32_t* __restrict bond_j = m.bj.data();
-  const std::uint8_t* __restrict state = m.state.data();
-  const std::uint8_t* __restrict cracking = m.any_softening ? m.cracks.cracking.data() : nullptr;
-  const std::uint8_t* __restrict ok = m.strain.ok.data();
-  const double* __restrict x0 = m.x0.data();
-  const double* __restrict y0 = m.y0.data();
+  // Disk i's own values read once (the compiler reloaded them per bond).
+  const AdjacencyView a(m);
   const double* __restrict f_x = fx.data();
   const double* __restrict f_y = fy.data();
-  const double x_i = x0[i], y_i = y0[i], fx_i = f_x[i], fy_i = f_y[i];
+  const double x_i = a.x0[i], y_i = a.y0[i], fx_i = f_x[i], fy_i = f_y[i];
   double gxx = 0, gxy = 0, gyx = 0, gyy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
-    const std::int32_t e = adj_entry[k];  // Model::adj_bond
-    const auto b = static_cast<std::size_t>(e >= 0 ? e : ~e);
-    const auto o = static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ i;  // Model::adj_other
-    // Model::bond_in_fit and a neighbour with a fit.
-    if (state[b] > 1 || (cracking != nullptr && cracking[b]) || !ok[o]) continue;
-    const double ax = x0[o] - x_i, ay = y0[o] - y_i;  // Model::adj_ax
+    const std::size_t b = a.bond(k), o = a.other(b, i);
+    if (!a.in_fit(b) || !a.ok[o]) continue;  // in the fit, and a neighbour with a fit
+    const double ax = a.x0[o] - x_i, ay = a.y0[o] - y_i;  // Model::adj_ax
     const double dux = f_x[o] - fx_i, duy = f_y[o] - fy_i;
     gxx += dux * ax;
     gxy += dux * ay;
@@ -937,8 +956,7 @@ void compute_bond_forces(Model& m, double dt, const double* vx, const double* vy
 void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
   const std::int32_t* __restrict adj_offset = m.adj_offset.data();
-  const std::int32_t* __restrict adj_entry = m.adj_entry.data();
-  const std::uint8_t* __restrict state = m.state.data();
+  const AdjacencyView a(m);
   const double* __restrict f_s = m.f_s.data();
   const double* __restrict g_xx = m.g_xx.data();
   const double* __restrict g_yy = m.g_yy.data();
@@ -948,9 +966,8 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
     double sxx = 0, syy = 0, sxy = 0;
     if (shear_springs) {
       for (auto k = adj_offset[i]; k < adj_offset[i + 1]; ++k) {
-        const std::int32_t e = adj_entry[k];  // Model::adj_bond
-        const auto b = static_cast<std::size_t>(e >= 0 ? e : ~e);
-        if (state[b] > 1) continue;  // !Model::bond_intact
+        const std::size_t b = a.bond(k);
+        if (a.state[b] > 1) continue;  // !Model::bond_intact
         const double fs = f_s[b];
         sxx += fs * g_xx[b];
         syy += fs * g_yy[b];
@@ -988,14 +1005,7 @@ void gather_forces(Model& m) {
   // own values are read once, outside its bonds' loop (the same arithmetic: the compiler
   // could not keep them in registers through the loop's loads).
   const std::int32_t* __restrict offset = m.adj_offset.data();
-  const std::int32_t* __restrict adj_entry = m.adj_entry.data();
-  const std::int32_t* __restrict bond_i = m.bi.data();
-  const std::int32_t* __restrict bond_j = m.bj.data();
-  const std::uint8_t* __restrict state = m.state.data();
-  const std::uint8_t* __restrict cracking = m.any_softening ? m.cracks.cracking.data() : nullptr;
-  const std::uint8_t* __restrict ok = m.strain.ok.data();
-  const double* __restrict x0 = m.x0.data();
-  const double* __restrict y0 = m.y0.data();
+  const AdjacencyView a(m);
   const double* __restrict w_xx = m.strain.w_xx.data();
   const double* __restrict w_xy = m.strain.w_xy.data();
   const double* __restrict w_yx = m.strain.w_yx.data();
@@ -1016,19 +1026,18 @@ void gather_forces(Model& m) {
     // Disk i's terms of the strain forces (StrainTerms): its centre, its W and whether it has a fit.
     double x_i = 0, y_i = 0, wi_xx = 0, wi_xy = 0, wi_yx = 0, wi_yy = 0, co = 0;
     if constexpr (StrainTerms) {
-      x_i = x0[i], y_i = y0[i];
+      x_i = a.x0[i], y_i = a.y0[i];
       wi_xx = w_xx[i], wi_xy = w_xy[i], wi_yx = w_yx[i], wi_yy = w_yy[i];
-      co = ok[i] ? 1.0 : 0.0;
+      co = a.ok[i] ? 1.0 : 0.0;
     }
     for (auto k = offset[i]; k < offset[i + 1]; ++k) {
       // Model::adj_bond and adj_sign: the entry is b where i is the bond's bi, ~b where bj.
-      const std::int32_t e = adj_entry[k];
-      const auto b = static_cast<std::size_t>(e >= 0 ? e : ~e);
-      const double s = e >= 0 ? 1.0 : -1.0;
+      const std::size_t b = a.bond(k);
+      const double s = a.entry[k] >= 0 ? 1.0 : -1.0;
       const double nx = bnx[b], ny = bny[b];
       double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
       if constexpr (Breakable) {
-        if (state[b] > 1) {  // !Model::bond_intact
+        if (a.state[b] > 1) {  // !Model::bond_intact
           // A broken bond in contact: pair force with friction and its moment.
           f_x -= f_s[b] * ny;
           f_y += f_s[b] * nx;
@@ -1046,12 +1055,12 @@ void gather_forces(Model& m) {
       fx += s * f_x;
       fy += s * f_y;
       if constexpr (StrainTerms) {
-        if (state[b] <= 1 && (cracking == nullptr || !cracking[b])) {  // Model::bond_in_fit
+        if (a.in_fit(b)) {
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
-          // The other disk, from the bond's ends (Model::adj_other); Model::adj_ax.
-          const auto o = static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ iu;
-          const double ax = x0[o] - x_i, ay = y0[o] - y_i;
-          const double ci = ok[o] ? 1.0 : 0.0;
+          // The other disk, from the bond's ends; Model::adj_ax.
+          const std::size_t o = a.other(b, iu);
+          const double ax = a.x0[o] - x_i, ay = a.y0[o] - y_i;
+          const double ci = a.ok[o] ? 1.0 : 0.0;
           const double wxx = ci * wi_xx + co * w_xx[o], wxy = ci * wi_xy + co * w_xy[o];
           const double wyx = ci * wi_yx + co * w_yx[o], wyy = ci * wi_yy + co * w_yy[o];
           fx += wxx * ax + wxy * ay;
