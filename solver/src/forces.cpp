@@ -53,6 +53,27 @@ struct AdjacencyView {
   [[nodiscard]] bool in_fit(std::size_t b) const { return state[b] <= 1 && (cracking == nullptr || !cracking[b]); }
 };
 
+/// The local-strain model's shear measure of a bond, u_s = (d/2) s0.(eps_i + eps_j).n0 =
+/// g : (eps_i + eps_j) (physics.md section 4), read through raw pointers taken once per pass:
+/// the one expression of local_shear and of the elastic bond pass.
+struct LocalShearView {
+  const std::uint8_t* __restrict ok;  ///< LocalStrain::ok: the disk has a strain fit
+  const double* __restrict exx;
+  const double* __restrict eyy;
+  const double* __restrict exy;
+  const double* __restrict g_xx;
+  const double* __restrict g_yy;
+  const double* __restrict g_xy;
+  explicit LocalShearView(const Model& m)
+      : ok(m.strain.ok.data()), exx(m.strain.eps_xx.data()), eyy(m.strain.eps_yy.data()), exy(m.strain.eps_xy.data()),
+        g_xx(m.g_xx.data()), g_yy(m.g_yy.data()), g_xy(m.g_xy.data()) {}
+  /// u_s [m] of bond b between disks i and j; a lone disk's bond has the normal spring only.
+  [[nodiscard]] double operator()(std::size_t b, std::size_t i, std::size_t j) const {
+    if (!ok[i] || !ok[j]) return 0.0;
+    return g_xx[b] * (exx[i] + exx[j]) + g_yy[b] * (eyy[i] + eyy[j]) + 2.0 * g_xy[b] * (exy[i] + exy[j]);
+  }
+};
+
 /// Least-squares symmetric gradient of the field (fx, fy) at disk i over its intact bonds,
 /// sym((sum_k (f_k - f_i) a_k^T) (sum_k a_k a_k^T)^-1), with the disk's current fit (M^-1):
 /// the strain from the displacements, or its rate from the velocities.
@@ -80,10 +101,15 @@ std::array<double, 3> fit_gradient(const Model& m, std::size_t i, const std::vec
           m.on_mirror(i) ? 0.0 : 0.5 * ((gxx * mxy + gxy * myy) + (gyx * mxx + gyy * mxy))};
 }
 
+/// Hoop strain u_r / b of disk i (axisymmetric; 0 in plane geometries).
+inline double hoop_strain(const Model& m, std::size_t i) {
+  return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.disk_weight(i) : 0.0;
+}
+
 /// Pass A: least-squares strain of each disk over its intact bonds,
 /// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
 void disk_strain(Model& m, std::size_t i) {
-  if (!m.strain.eps_tt.empty()) m.strain.eps_tt[i] = m.ux[i] / m.disk_weight(i);  // hoop_strain
+  if (!m.strain.eps_tt.empty()) m.strain.eps_tt[i] = hoop_strain(m, i);  // axisymmetric models only
   const std::array<double, 3> e = fit_gradient(m, i, m.ux, m.uy);
   m.strain.eps_xx[i] = e[0];
   m.strain.eps_yy[i] = e[1];
@@ -104,15 +130,7 @@ void compute_disk_strains(Model& m) {
 
 /// u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j) of bond b (local-strain model).
 inline double local_shear(const Model& m, std::size_t b) {
-  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-  if (!m.strain.ok[i] || !m.strain.ok[j]) return 0.0;  // a lone disk's bond: normal spring only
-  return m.g_xx[b] * (m.strain.eps_xx[i] + m.strain.eps_xx[j]) + m.g_yy[b] * (m.strain.eps_yy[i] + m.strain.eps_yy[j]) +
-         2.0 * m.g_xy[b] * (m.strain.eps_xy[i] + m.strain.eps_xy[j]);
-}
-
-/// Hoop strain u_r / b of disk i (axisymmetric; 0 in plane geometries).
-inline double hoop_strain(const Model& m, std::size_t i) {
-  return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.disk_weight(i) : 0.0;
+  return LocalShearView(m)(b, static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b]));
 }
 
 /// The nonlocal strains (Model::nonlocal), where a criterion can be near: first each averaged
@@ -696,14 +714,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double exx = wi * gxx[i] + wj * gxx[j], eyy = wi * gyy[i] + wj * gyy[j];
   const double exy = wi * gxy[i] + wj * gxy[j], tr = exx + eyy;
   const bool axisym = m.geometry == Geometry::Axisymmetric;
-  double ett = 0.0;
-  if (axisym) {
-    if (nonlocal) {
-      ett = wi * m.nonlocal.eps_tt[i] + wj * m.nonlocal.eps_tt[j];
-    } else {
-      ett = wi * m.strain.eps_tt[i] + wj * m.strain.eps_tt[j];  // hoop_strain, of this pass
-    }
-  }
+  const std::vector<double>& gtt = nonlocal ? m.nonlocal.eps_tt : m.strain.eps_tt;  // hoop_strain, of this pass
+  const double ett = axisym ? wi * gtt[i] + wj * gtt[j] : 0.0;
   const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
   const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
@@ -892,14 +904,7 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   double* __restrict f_s = m.f_s.data();
   double* __restrict bnx = m.nx.data();
   double* __restrict bny = m.ny.data();
-  // The local-strain model's shear measure (empty in the rotation model).
-  const std::uint8_t* __restrict ok = m.strain.ok.data();
-  const double* __restrict exx = m.strain.eps_xx.data();
-  const double* __restrict eyy = m.strain.eps_yy.data();
-  const double* __restrict exy = m.strain.eps_xy.data();
-  const double* __restrict g_xx = m.g_xx.data();
-  const double* __restrict g_yy = m.g_yy.data();
-  const double* __restrict g_xy = m.g_xy.data();
+  const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
@@ -911,11 +916,7 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
     if constexpr (Rotation) {
       f_s[b] += ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
     } else {
-      // local_shear from the raw arrays (the same arithmetic); u_s is not kept (Model::u_s).
-      const double u_s = ok[i] && ok[j] ? g_xx[b] * (exx[i] + exx[j]) + g_yy[b] * (eyy[i] + eyy[j]) +
-                                              2.0 * g_xy[b] * (exy[i] + exy[j])
-                                        : 0.0;
-      f_s[b] = ks[kb] * u_s;
+      f_s[b] = ks[kb] * local_shear_of(static_cast<std::size_t>(b), i, j);  // u_s is not kept (Model::u_s)
     }
   }
 }
