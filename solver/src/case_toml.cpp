@@ -750,6 +750,8 @@ void Reader::read_outline(toml::table& root, const MeshSettings& mesh, Case& c) 
              "not allowed together with [mesh] outline = \"" + mesh.outline_file +
                  "\" (give the outline in one place)");
     }
+    if (mesh.outline_file.empty())
+      fail(*mesh.outline, "mesh.outline", "expected the name of a .toml or .dxf outline file (got \"\")");
     std::filesystem::path file(mesh.outline_file);
     if (file.is_relative() && !base_dir_.empty()) file = std::filesystem::path(base_dir_) / file;
     const std::string path = file.lexically_normal().string();
@@ -1170,7 +1172,7 @@ std::string effective_text(const toml::table& root, const std::string& source_na
   if (toml::table* mesh = copy["mesh"].as_table()) {
     if (const auto* outline = mesh->get_as<std::string>("outline")) {
       std::filesystem::path file(outline->get());
-      if (file.is_relative()) {
+      if (file.is_relative() && !file.empty()) {  // an empty name is refused by read_outline
         file = std::filesystem::absolute(base_dir.empty() ? file : std::filesystem::path(base_dir) / file);
         mesh->insert_or_assign("outline", file.lexically_normal().string());
       }

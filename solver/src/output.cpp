@@ -357,7 +357,7 @@ static std::uint64_t prefix_hash(const std::string& path, std::uint64_t bytes) {
   return h;
 }
 
-void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash) {
+void RunOutput::check_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash) {
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec || size < bytes)
@@ -367,6 +367,10 @@ void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t byte
   if (prefix_hash(path, bytes) != hash)
     throw InputError(path + ": its first " + std::to_string(bytes) +
                      " bytes are not the ones the checkpoint's run wrote (another run has written this folder since)");
+}
+
+void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t bytes) {
+  std::error_code ec;
   fs::resize_file(path, bytes, ec);
   if (ec) throw std::runtime_error(path + ": cannot truncate for the restart (" + ec.message() + ")");
 }
@@ -395,17 +399,100 @@ void RunOutput::save_state(RunState& state) {
 
 void RunOutput::open(const Solver& solver, const RunState* resume) {
   const Case& c = solver.case_data();
+  const Model& m = solver.model();
   name_ = c.name;
   compression_level_ = c.output.compression_level;
   frame_dir_ = (fs::path(dir_) / name_).string();
+  pvd_path_ = (fs::path(dir_) / (name_ + ".pvd")).string();
+  energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
+  probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
+  bodies_path_ = (fs::path(dir_) / (name_ + ".bodies.csv")).string();
+  reactions_path_ = (fs::path(dir_) / (name_ + ".reactions.csv")).string();
+  status_path_ = (fs::path(dir_) / (name_ + ".status")).string();
+
+  // First every check that can refuse the run; the folder is not touched until all pass, so
+  // that a refused run (or restart) leaves a finished folder as it was.
+  std::ostringstream probes_header;
+  probes_header << "time,step";
+  for (const Probe& p : c.probes) {
+    // The disk nearest to the probe point (reference positions).
+    std::size_t best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < m.num_disks(); ++i) {
+      const double d = std::hypot(m.x0[i] - p.point[0], m.y0[i] - p.point[1]);
+      if (d < best_d) { best_d = d; best = i; }
+    }
+    // A probe outside every body would record a disk far from where it was asked for.
+    if (!(best_d <= 2 * m.radius[best])) {
+      throw InputError(p.where + ": probe '" + p.name + "' selects no disk: its point lies " +
+                       meshing::format_number(best_d) + " m from the nearest disk centre (radius " +
+                       meshing::format_number(m.radius[best]) + " m), outside every body");
+    }
+    std::vector<std::string> fields = p.fields;
+    if (fields.empty()) fields = {"displacement", "velocity", "stress", "rotation", "spin"};
+    for (const std::string& f : fields) {
+      if (f == "displacement" || f == "velocity") {
+        probes_header << "," << p.name << "." << f << "_x," << p.name << "." << f << "_y";
+      } else if (f == "stress") {
+        probes_header << "," << p.name << ".stress_xx," << p.name << ".stress_yy," << p.name << ".stress_xy,"
+                      << p.name << ".stress_zz";
+      } else {
+        probes_header << "," << p.name << "." << f;
+      }
+    }
+    probe_points_.push_back({best, fields});
+  }
+  probes_header << "\n";
+
+  std::ostringstream bodies_header;
+  bodies_header << "time,step";
+  {
+    // Body index = position in the outline (the lattice's `body` numbers).
+    std::vector<std::string> names;
+    for (const meshing::BodyOutline& b : c.outline.bodies) names.push_back(b.name);
+    body_slot_.assign(names.size(), -1);
+    for (const std::string& b : c.output.body_history) {
+      const auto at = std::find(names.begin(), names.end(), b);
+      if (at == names.end()) throw InputError(c.source + ": output.body_history: unknown body '" + b + "'");
+      const auto index = static_cast<std::int32_t>(at - names.begin());
+      if (std::find(m.body.begin(), m.body.end(), index) == m.body.end())
+        throw InputError(c.source + ": output.body_history: body '" + b + "' selects no disk (it has none)");
+      body_slot_[static_cast<std::size_t>(at - names.begin())] = static_cast<int>(body_sums_.size());
+      body_sums_.push_back({});
+      for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) bodies_header << "," << b << "." << col;
+    }
+    bodies_header << "\n";
+  }
+
+  // The frames the checkpoint lists, as `<case>/<file>.vtu` in this folder (the frames to keep).
+  std::vector<std::string> keep;
+  if (resume != nullptr) {
+    for (const io::PvdEntry& e : resume->frames) {
+      const fs::path rel(e.file);
+      const std::string file = rel.filename().string();
+      if (rel.is_absolute() || rel.parent_path() != fs::path(name_) || file.rfind(name_ + "_", 0) != 0 ||
+          rel.extension() != ".vtu")
+        throw InputError(dir_ + ": the checkpoint lists the frame '" + e.file + "', not a frame '" + name_ + "/" +
+                         name_ + "_<step>.vtu' of this folder's case");
+      if (!fs::exists(fs::path(dir_) / rel))
+        throw InputError((fs::path(dir_) / rel).string() +
+                         ": missing, the checkpoint lists it (restart in the output folder the checkpoint was "
+                         "written for)");
+      keep.push_back(file);
+    }
+    check_for_restart(energy_path_, resume->energy_bytes, resume->energy_hash);
+    if (!c.probes.empty()) check_for_restart(probes_path_, resume->probes_bytes, resume->probes_hash);
+    if (!c.output.body_history.empty()) check_for_restart(bodies_path_, resume->bodies_bytes, resume->bodies_hash);
+    if (!c.output.reactions.empty())
+      check_for_restart(reactions_path_, resume->reactions_bytes, resume->reactions_hash);
+  }
+
+  // Every check passed: prepare the folder.
   make_folder(dir_);
   make_folder(frame_dir_);
   std::error_code ec;
   // Old frames of this case would be listed by nobody but could confuse a reader: remove them
   // (on a restart, those after the checkpoint).
-  std::vector<std::string> keep;
-  if (resume != nullptr)
-    for (const io::PvdEntry& e : resume->frames) keep.push_back(fs::path(e.file).filename().string());
   for (fs::directory_iterator it(frame_dir_, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string f = it->path().filename().string();
     std::error_code rm;
@@ -414,26 +501,13 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
       fs::remove(it->path(), rm);
   }
   if (ec) throw InputError(frame_dir_ + ": cannot list the folder (" + ec.message() + ")");
-  pvd_path_ = (fs::path(dir_) / (name_ + ".pvd")).string();
-  energy_path_ = (fs::path(dir_) / (name_ + ".energy.csv")).string();
-  probes_path_ = (fs::path(dir_) / (name_ + ".probes.csv")).string();
-  bodies_path_ = (fs::path(dir_) / (name_ + ".bodies.csv")).string();
-  reactions_path_ = (fs::path(dir_) / (name_ + ".reactions.csv")).string();
-  status_path_ = (fs::path(dir_) / (name_ + ".status")).string();
   write_status("running");
   // The CSVs of a restart continue from the checkpoint; those of a new run start afresh.
   if (resume != nullptr) {
-    for (const io::PvdEntry& e : resume->frames)
-      if (!fs::exists(fs::path(dir_) / e.file))
-        throw InputError((fs::path(dir_) / e.file).string() +
-                         ": missing, the checkpoint lists it (restart in the output folder the checkpoint was "
-                         "written for)");
-    truncate_for_restart(energy_path_, resume->energy_bytes, resume->energy_hash);
-    if (!c.probes.empty()) truncate_for_restart(probes_path_, resume->probes_bytes, resume->probes_hash);
-    if (!c.output.body_history.empty())
-      truncate_for_restart(bodies_path_, resume->bodies_bytes, resume->bodies_hash);
-    if (!c.output.reactions.empty())
-      truncate_for_restart(reactions_path_, resume->reactions_bytes, resume->reactions_hash);
+    truncate_for_restart(energy_path_, resume->energy_bytes);
+    if (!c.probes.empty()) truncate_for_restart(probes_path_, resume->probes_bytes);
+    if (!c.output.body_history.empty()) truncate_for_restart(bodies_path_, resume->bodies_bytes);
+    if (!c.output.reactions.empty()) truncate_for_restart(reactions_path_, resume->reactions_bytes);
     pvd_ = resume->frames;
     last_frame_ = resume->last_frame;
     io::write_pvd(pvd_path_, pvd_);
@@ -449,63 +523,13 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   if (resume == nullptr) fs::remove(probes_path_, ec);
   if (!c.probes.empty()) {
     probes_.open(probes_path_, resume != nullptr);
-    std::ostringstream header;
-    header << "time,step";
-    const Model& m = solver.model();
-    for (const Probe& p : c.probes) {
-      // The disk nearest to the probe point (reference positions).
-      std::size_t best = 0;
-      double best_d = std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < m.num_disks(); ++i) {
-        const double d = std::hypot(m.x0[i] - p.point[0], m.y0[i] - p.point[1]);
-        if (d < best_d) { best_d = d; best = i; }
-      }
-      // A probe outside every body would record a disk far from where it was asked for.
-      if (!(best_d <= 2 * m.radius[best])) {
-        throw InputError(p.where + ": probe '" + p.name + "' selects no disk: its point lies " +
-                         meshing::format_number(best_d) + " m from the nearest disk centre (radius " +
-                         meshing::format_number(m.radius[best]) + " m), outside every body");
-      }
-      std::vector<std::string> fields = p.fields;
-      if (fields.empty()) fields = {"displacement", "velocity", "stress", "rotation", "spin"};
-      for (const std::string& f : fields) {
-        if (f == "displacement" || f == "velocity") {
-          header << "," << p.name << "." << f << "_x," << p.name << "." << f << "_y";
-        } else if (f == "stress") {
-          header << "," << p.name << ".stress_xx," << p.name << ".stress_yy," << p.name
-                 << ".stress_xy," << p.name << ".stress_zz";
-        } else {
-          header << "," << p.name << "." << f;
-        }
-      }
-      probe_points_.push_back({best, fields});
-    }
-    header << "\n";
-    if (resume == nullptr) probes_ << header.str();
+    if (resume == nullptr) probes_ << probes_header.str();
   }
 
   if (resume == nullptr) fs::remove(bodies_path_, ec);
   if (!c.output.body_history.empty()) {
     bodies_.open(bodies_path_, resume != nullptr);
-    // Body index = position in the outline (the lattice's `body` numbers).
-    std::vector<std::string> names;
-    for (const meshing::BodyOutline& b : c.outline.bodies) names.push_back(b.name);
-    body_slot_.assign(names.size(), -1);
-    std::ostringstream header;
-    header << "time,step";
-    for (const std::string& b : c.output.body_history) {
-      const auto at = std::find(names.begin(), names.end(), b);
-      if (at == names.end()) throw InputError(c.source + ": output.body_history: unknown body '" + b + "'");
-      const auto index = static_cast<std::int32_t>(at - names.begin());
-      const Model& m = solver.model();
-      if (std::find(m.body.begin(), m.body.end(), index) == m.body.end())
-        throw InputError(c.source + ": output.body_history: body '" + b + "' selects no disk (it has none)");
-      body_slot_[static_cast<std::size_t>(at - names.begin())] = static_cast<int>(body_sums_.size());
-      body_sums_.push_back({});
-      for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) header << "," << b << "." << col;
-    }
-    header << "\n";
-    if (resume == nullptr) bodies_ << header.str();
+    if (resume == nullptr) bodies_ << bodies_header.str();
   }
 
   if (resume == nullptr) fs::remove(reactions_path_, ec);

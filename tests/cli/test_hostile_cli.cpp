@@ -290,6 +290,44 @@ TEST(HostileCli, OutputFolderProblemsAreExitTwoWithThePath) {
                      "cannot write '" + (dir / "nope" / "x.vtu").string() + "'");
 }
 
+TEST(HostileCli, RefusedRunsLeaveAFinishedFolderAsItWas) {
+  // Was: a restart refused for a CSV that another run had changed (exit 2, the right line)
+  // had already deleted the frames after the checkpoint, left them in the .pvd and set the
+  // status to "running"; a probe outside every body left a folder with a "running" status,
+  // empty CSVs and an empty frame folder; an empty outline name was an internal error.
+  const fs::path dir = work_dir();
+  const fs::path c = write(dir, "r.toml", plate_case("name = \"r\"", "end = 1e-6",
+                                                     "interval = 2e-7\ncheckpoint_interval = 3e-7"));
+  const fs::path out = dir / "r_out";
+  ASSERT_EQ(run_hexdem(dir, "run " + quote(c) + " -q -j 1 -o " + quote(out)).code, 0);
+  const auto listing = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(out)) names.push_back(e.path().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> before = listing();
+  const std::string pvd = slurp(out / "r.pvd"), status = slurp(out / "r.status");
+  ASSERT_NE(status.find("completed"), std::string::npos) << status;
+  std::string energy = slurp(out / "r.energy.csv");
+  energy[energy.find('\n') + 1] = '9';  // another run has written the CSV since
+  write(out, "r.energy.csv", energy);
+  expect_input_error(run_hexdem(dir, "run " + quote(c) + " -j 1 --restart " + quote(out / "r.chk")),
+                     "r.energy.csv: its first");
+  EXPECT_EQ(listing(), before);
+  EXPECT_EQ(slurp(out / "r.pvd"), pvd);
+  EXPECT_EQ(slurp(out / "r.status"), status);
+  EXPECT_EQ(slurp(out / "r.energy.csv"), energy);
+
+  std::string far = plate_case("name = \"f\"", "end = 1e-6");
+  far.replace(far.find("point = [0.005, 0.0]"), 20, "point = [5.0, 0.0]");
+  expect_input_error(run_hexdem(dir, "run " + quote(write(dir, "f.toml", far)) + " -o " + quote(dir / "f_out")),
+                     "probe 'top' selects no disk");
+  EXPECT_FALSE(fs::exists(dir / "f_out"));
+
+  expect_input_error(run_hexdem(dir, "check " + quote(c) + " --set 'mesh.outline=\"\"'"), "mesh.outline");
+}
+
 // ---- full disks ----------------------------------------------------------------------------
 
 /// Mounts a small tmpfs at `dir` (root only); false if that is not possible here.

@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -248,6 +249,9 @@ TEST(PostCommand, BadInputExitsWithOneLine) {
   std::ofstream(dir / "frame.txt") << "x";
   expect_input_error(dir, "cracks frame.txt -o out", "unknown input format '.txt'");
   expect_input_error(dir, "cracks good.vtu --time 1 -o out", "--time: needs a .pvd series");
+  std::ofstream(dir / "one.pvd") << "<VTKFile type=\"Collection\"><Collection>"
+                                    "<DataSet timestep=\"0\" file=\"good.vtu\"/></Collection></VTKFile>\n";
+  expect_input_error(dir, "cracks one.pvd --time nan -o out", "--time: must be a number of seconds (got nan)");
   expect_input_error(dir, "cracks good.vtu -o nowhere/out", "-o: folder 'nowhere' does not exist");
   expect_input_error(dir, "cracks good.vtu --merge-tolerance 2 -o out", "--merge-tolerance");
   expect_input_error(dir, "fragments good.vtu --min-disks 0 -o out", "--min-disks");
@@ -275,6 +279,10 @@ TEST(PostLibrary, ReadSeriesSortsFramesAndResolvesPaths) {
   EXPECT_EQ(hexdem::post::nearest_frame(frames, 0.6e-5), 1u);
   EXPECT_EQ(hexdem::post::nearest_frame(frames, 0.5e-5), 0u);  // tie: the earlier
   EXPECT_EQ(hexdem::post::nearest_frame(frames, 1.0), 2u);
+  // Far beyond the end every difference rounds to the same value; the last frame is nearest.
+  EXPECT_EQ(hexdem::post::nearest_frame(frames, 1e300), 2u);
+  EXPECT_EQ(hexdem::post::nearest_frame(frames, std::numeric_limits<double>::infinity()), 2u);
+  EXPECT_EQ(hexdem::post::nearest_frame(frames, -1e300), 0u);
 }
 
 }  // namespace

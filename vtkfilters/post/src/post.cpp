@@ -514,6 +514,9 @@ std::vector<SeriesFrame> read_series(const std::string& path) {
 }
 
 std::size_t nearest_frame(const std::vector<SeriesFrame>& frames, double time) {
+  // Beyond the series' ends the nearest frame is the end's (the differences below round to
+  // the same value for a time such as 1e300, and the first frame won every tie).
+  if (!frames.empty() && time >= frames.back().time) return frames.size() - 1;
   std::size_t best = 0;
   for (std::size_t k = 1; k < frames.size(); ++k) {
     if (std::abs(frames[k].time - time) < std::abs(frames[best].time - time)) best = k;
@@ -523,6 +526,7 @@ std::size_t nearest_frame(const std::vector<SeriesFrame>& frames, double time) {
 
 std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::ostream& err) {
   if (o.all && o.time) throw InputError("--time and --all: give one of them");
+  if (o.time && std::isnan(*o.time)) throw InputError("--time: must be a number of seconds (got nan)");
   if (o.p_max < 0) throw InputError("--p-max: must be >= 0 (got " + format_number(o.p_max) + ")");
   if (o.thickness < 0) {
     throw InputError("--thickness: must be >= 0 (got " + format_number(o.thickness) + ")");

@@ -124,10 +124,15 @@ public:
   static io::LineGrid frame_grid(const Solver& solver, ContactCells& contacts);
 
 private:
+  /// Checks everything that can refuse the run (probes, body histories, and on a restart the
+  /// checkpoint's frames and CSVs) before the folder is touched, then prepares the folder: a
+  /// refused run leaves a finished folder as it was (its status, frames, .pvd and CSVs).
   void open(const Solver& solver, const RunState* resume);
   /// Restart: checks that `path` holds at least `bytes` whose hash is `hash` (the run's own
-  /// rows) and cuts it there.
-  static void truncate_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash);
+  /// rows); changes nothing.
+  static void check_for_restart(const std::string& path, std::uint64_t bytes, std::uint64_t hash);
+  /// Restart, after every check passed: cuts `path` to `bytes`.
+  static void truncate_for_restart(const std::string& path, std::uint64_t bytes);
 
   struct ProbePoint {
     std::size_t disk;
