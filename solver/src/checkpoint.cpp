@@ -8,16 +8,20 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 #include <type_traits>
 
 #include "hexdem/error.hpp"
+#include "hexdem/solver/case_toml.hpp"
 
 namespace hexdem::solver {
 
@@ -150,6 +154,83 @@ void visit_model(M& m, V& v) {
   v.rebuilt("event_d_len", m.event_d_len);
 }
 
+/// The one refusal of a damaged checkpoint: the file, what is wrong, exit code 2.
+[[noreturn]] void damaged(const std::string& path, const std::string& what) {
+  throw InputError(path + ": damaged checkpoint: " + what);
+}
+
+std::string number(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+/// Consistency of a restored state (read_checkpoint): a checksum proves only that the file is
+/// the one written, not that what was written describes this model. Every index must point
+/// into the arrays it indexes, every enumerated value must be one of its values, every
+/// scalar must be finite and in the run's range, and the constants built with the model
+/// (bond ends, adjacency, kinds, bodies, reference centres, masses) must be the ones the
+/// case builds, before anything reads them.
+///
+/// The parts of a freshly built solver that its restored state must match.
+struct Built {
+  std::map<std::string, std::size_t> sizes;  ///< every stored vector's length, by record name
+  std::vector<std::int32_t> bi, bj, adj_offset, adj_entry, body, body_material;
+  std::vector<std::uint8_t> kind, bond_class;
+  std::vector<double> x0, y0, radius, cell_area, mass;
+  bool any_plastic = false, any_breakable = false, any_softening = false, any_j2 = false, contacts_on = false;
+};
+
+class Check {
+ public:
+  explicit Check(std::string path) : path_(std::move(path)) {}
+  [[noreturn]] void fail(const std::string& what) const { damaged(path_, what); }
+
+  /// Every element of record `name` in [lo, hi]; `what` says what the values index.
+  template <class T>
+  void range(const std::string& name, const std::vector<T>& v, std::int64_t lo, std::int64_t hi,
+             const std::string& what) const {
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const auto x = static_cast<std::int64_t>(v[k]);
+      if (x < lo || x > hi)
+        fail("record '" + name + "' element " + std::to_string(k) + " is " + std::to_string(x) + ", outside " +
+             std::to_string(lo) + ".." + std::to_string(hi) + " (" + what + ")");
+    }
+  }
+  /// A restored constant of the model equals the one the case builds.
+  template <class T>
+  void same(const std::string& name, const std::vector<T>& got, const std::vector<T>& built) const {
+    if (got.size() != built.size())
+      fail("record '" + name + "' has " + std::to_string(got.size()) + " elements, the case builds " +
+           std::to_string(built.size()));
+    for (std::size_t k = 0; k < got.size(); ++k)
+      if (std::memcmp(&got[k], &built[k], sizeof(T)) != 0) {
+        const auto show = [](T x) {
+          if constexpr (std::is_floating_point_v<T>) return number(x);
+          else return std::to_string(static_cast<std::int64_t>(x));
+        };
+        fail("record '" + name + "' element " + std::to_string(k) + " is " + show(got[k]) + ", the case builds " +
+             show(built[k]));
+      }
+  }
+  void same(const std::string& name, bool got, bool built) const {
+    if (got != built)
+      fail("record '" + name + "' is " + (got ? "true" : "false") + ", the case builds " + (built ? "true" : "false"));
+  }
+  /// A scalar record is finite and within [lo, hi].
+  void scalar(const std::string& name, double v, double lo, double hi) const {
+    if (!std::isfinite(v) || v < lo || v > hi)
+      fail("record '" + name + "' is " + number(v) + ", expected a finite value in [" + number(lo) + ", " + number(hi) +
+           "]");
+  }
+  void finite(const std::string& name, double v) const {
+    if (!std::isfinite(v)) fail("record '" + name + "' is " + number(v) + ", not finite");
+  }
+
+ private:
+  std::string path_;
+};
+
 }  // namespace
 
 /// The Solver's members, in declaration order (see visit_model).
@@ -203,6 +284,12 @@ struct CheckpointAccess {
     v.state("wall_fs", s.wall_fs_);
     v.state("wall_fv", s.wall_fv_);
   }
+
+  /// The sizes and constants of a freshly built solver that its restored state must match.
+  static Built built(const Solver& s);
+  /// Refuses (InputError naming the file, the record and the value) a restored state that
+  /// does not fit the model `b` describes and the case's run.
+  static void check_restored(const Solver& s, const Built& b, const RunState& run, const Check& c);
 
   /// After the stored state is in place: the broad phase from the restored centres, and the
   /// contact list as its candidate pairs with the stored forces carried over.
@@ -368,9 +455,7 @@ class Reader : public Prefixed<Reader> {
     return std::string(r.data, r.count);
   }
 
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(path_ + ": damaged checkpoint: " + what);
-  }
+  [[noreturn]] void fail(const std::string& what) const { damaged(path_, what); }
 
  private:
   const Record& find(const std::string& name, std::size_t elem) const {
@@ -417,6 +502,222 @@ void load_run(Reader& r, RunState& run) {
   r.state("run.reactions_bytes", run.reactions_bytes);
   r.state("run.reactions_hash", run.reactions_hash);
 }
+
+// ---- consistency --------------------------------------------------------------------
+
+/// The length of every vector the checkpoint stores, by record name (a vector of vectors: its
+/// row count as "<name>.rows" and each row as "<name>.<k>", as the Writer names them).
+class Shapes : public Prefixed<Shapes> {
+ public:
+  template <class T>
+  void state(const char* name, const T& value) {
+    if constexpr (is_vector<T>::value) {
+      if constexpr (is_vector<typename T::value_type>::value) {
+        sizes[prefix_ + name + ".rows"] = value.size();
+        for (std::size_t r = 0; r < value.size(); ++r) state((std::string(name) + "." + std::to_string(r)).c_str(), value[r]);
+      } else {
+        sizes[prefix_ + name] = value.size();
+      }
+    }
+  }
+  template <class T>
+  void rebuilt(const char*, const T&) {}
+  std::map<std::string, std::size_t> sizes;
+};
+
+/// Records whose length changes during a run: not compared with the fresh solver's.
+bool variable_length(const std::string& name) { return name == "contacts" || name == "model.failed_rows"; }
+
+/// The frame names `hexdem run` writes: "<case>/<case>_<step, 9+ digits>.vtu", relative to the
+/// output folder.
+bool frame_file_ok(const std::string& file, const std::string& name) {
+  const std::string head = name + "/" + name + "_", tail = ".vtu";
+  if (name.empty() || file.size() < head.size() + 9 + tail.size()) return false;
+  if (file.compare(0, head.size(), head) != 0 || file.compare(file.size() - tail.size(), tail.size(), tail) != 0)
+    return false;
+  for (std::size_t k = head.size(); k < file.size() - tail.size(); ++k)
+    if (file[k] < '0' || file[k] > '9') return false;
+  return true;
+}
+
+}  // namespace
+
+Built CheckpointAccess::built(const Solver& s) {
+  Built b;
+  Shapes shapes;
+  visit_solver(s, shapes);
+  b.sizes = std::move(shapes.sizes);
+  const Model& m = s.model_;
+  b.bi = m.bi;
+  b.bj = m.bj;
+  b.adj_offset = m.adj_offset;
+  b.adj_entry = m.adj_entry;
+  b.body = m.body;
+  b.body_material = m.body_material;
+  b.kind = m.kind;
+  b.bond_class = m.bond_class;
+  b.x0 = m.x0;
+  b.y0 = m.y0;
+  b.radius = m.radius;
+  b.cell_area = m.cell_area;
+  b.mass = m.mass;
+  b.any_plastic = m.any_plastic;
+  b.any_breakable = m.any_breakable;
+  b.any_softening = m.any_softening;
+  b.any_j2 = m.any_j2;
+  b.contacts_on = s.contacts_on_;
+  return b;
+}
+
+void CheckpointAccess::check_restored(const Solver& s, const Built& b, const RunState& run, const Check& c) {
+  const Model& m = s.model_;
+  // Lengths first: every check below indexes the arrays.
+  Shapes shapes;
+  visit_solver(s, shapes);
+  for (const auto& [name, size] : b.sizes) {
+    if (variable_length(name)) continue;
+    const auto it = shapes.sizes.find(name);
+    const std::size_t got = it == shapes.sizes.end() ? 0 : it->second;
+    if (got != size)
+      c.fail("record '" + name + "' has " + std::to_string(got) + " elements, the case's model has " + std::to_string(size));
+  }
+  for (const auto& [name, size] : shapes.sizes)
+    if (b.sizes.count(name) == 0) c.fail("record '" + name + "' is not a record of this case's model");
+  for (const auto& [name, got, built] : {std::tuple{"model.any_plastic", m.any_plastic, b.any_plastic},
+                                         std::tuple{"model.any_breakable", m.any_breakable, b.any_breakable},
+                                         std::tuple{"model.any_softening", m.any_softening, b.any_softening},
+                                         std::tuple{"model.any_j2", m.any_j2, b.any_j2},
+                                         std::tuple{"contacts_on", s.contacts_on_, b.contacts_on}})
+    c.same(name, got, built);
+
+  // Indices and enumerated values.
+  const auto n = static_cast<std::int64_t>(m.num_disks()), nb = static_cast<std::int64_t>(m.num_bonds());
+  const auto bodies = static_cast<std::int64_t>(m.body_material.size());
+  c.range("model.bi", m.bi, 0, n - 1, "a disk index");
+  c.range("model.bj", m.bj, 0, n - 1, "a disk index");
+  for (std::int64_t k = 0; k < nb; ++k)
+    if (m.bi[k] >= m.bj[k])
+      c.fail("record 'model.bj' element " + std::to_string(k) + " is " + std::to_string(m.bj[k]) +
+             ", not above the bond's model.bi " + std::to_string(m.bi[k]));
+  c.range("model.adj_offset", m.adj_offset, 0, static_cast<std::int64_t>(m.adj_entry.size()), "an adjacency entry");
+  if (!m.adj_offset.empty() && (m.adj_offset.front() != 0 || m.adj_offset.back() != static_cast<std::int64_t>(m.adj_entry.size())))
+    c.fail("record 'model.adj_offset' runs from " + std::to_string(m.adj_offset.front()) + " to " +
+           std::to_string(m.adj_offset.back()) + ", expected 0 to " + std::to_string(m.adj_entry.size()));
+  for (std::size_t k = 1; k < m.adj_offset.size(); ++k)
+    if (m.adj_offset[k] < m.adj_offset[k - 1])
+      c.fail("record 'model.adj_offset' element " + std::to_string(k) + " is " + std::to_string(m.adj_offset[k]) +
+             ", below element " + std::to_string(k - 1) + " (" + std::to_string(m.adj_offset[k - 1]) + ")");
+  for (std::size_t k = 0; k < m.adj_entry.size(); ++k) {
+    const std::int64_t e = m.adj_entry[k], bond = e >= 0 ? e : -1 - e;
+    if (bond >= nb)
+      c.fail("record 'model.adj_entry' element " + std::to_string(k) + " is " + std::to_string(e) +
+             ", not a bond (b or ~b of the " + std::to_string(nb) + " bonds)");
+  }
+  for (std::size_t i = 0; i + 1 < m.adj_offset.size(); ++i)
+    for (std::int64_t k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
+      const std::int32_t e = m.adj_entry[static_cast<std::size_t>(k)];
+      const std::size_t bond = m.adj_bond(k);
+      if (static_cast<std::size_t>(e >= 0 ? m.bi[bond] : m.bj[bond]) != i)
+        c.fail("record 'model.adj_entry' element " + std::to_string(k) + " is " + std::to_string(e) + ", a bond of disk " +
+               std::to_string(i) + " that does not end there");
+    }
+  c.range("model.state", m.state, 0, static_cast<std::int64_t>(BondState::BrokenCompression), "a bond state");
+  c.range("model.kind", m.kind, 0, static_cast<std::int64_t>(meshing::DiskKind::SemiDisk), "a disk kind");
+  c.range("model.body", m.body, 0, bodies - 1, "a body index");
+  c.range("model.constraint", m.constraint, 0, kFixX | kFixY | kFixRotation, "constraint bits");
+  c.range("model.mirror_plane", m.mirror.plane, 0, 1, "a flag");
+  c.range("model.strain_ok", m.strain.ok, 0, 1, "a flag");
+  c.range("model.hoop_cut", m.hoop.cut, 0, 1, "a flag");
+  c.range("model.cracking", m.cracks.cracking, 0, 2, "none, tension or shear crack");
+  c.range("model.failed_row", m.failed_row, -1, static_cast<std::int64_t>(m.failed_rows.size()) - 1,
+          "a row of model.failed_rows or -1");
+  if (m.failed_rows.size() > m.num_bonds())
+    c.fail("record 'model.failed_rows' has " + std::to_string(m.failed_rows.size()) + " rows, the model has " +
+           std::to_string(m.num_bonds()) + " bonds");
+  if (s.broken_bonds_ > m.num_bonds())
+    c.fail("record 'broken_bonds' is " + std::to_string(s.broken_bonds_) + ", the model has " +
+           std::to_string(m.num_bonds()) + " bonds");
+  for (std::size_t k = 0; k < s.contacts_.size(); ++k) {
+    const Solver::Contact& ct = s.contacts_[k];
+    if (ct.i < 0 || ct.i >= ct.j || ct.j >= n)
+      c.fail("record 'contacts' element " + std::to_string(k) + " joins disks " + std::to_string(ct.i) + " and " +
+             std::to_string(ct.j) + ", expected 0 <= i < j < " + std::to_string(n));
+    if (k > 0 && std::pair(s.contacts_[k - 1].i, s.contacts_[k - 1].j) >= std::pair(ct.i, ct.j))
+      c.fail("record 'contacts' element " + std::to_string(k) + " (disks " + std::to_string(ct.i) + ", " +
+             std::to_string(ct.j) + ") is not after the one before it");
+    if (!std::isfinite(ct.f_n) || !std::isfinite(ct.f_s) || !std::isfinite(ct.f_v))
+      c.fail("record 'contacts' element " + std::to_string(k) + " has a force that is not finite");
+  }
+  // The constants built with the model: those the case builds.
+  c.same("model.bi", m.bi, b.bi);
+  c.same("model.bj", m.bj, b.bj);
+  c.same("model.adj_offset", m.adj_offset, b.adj_offset);
+  c.same("model.adj_entry", m.adj_entry, b.adj_entry);
+  c.same("model.kind", m.kind, b.kind);
+  c.same("model.body", m.body, b.body);
+  c.same("model.body_material", m.body_material, b.body_material);
+  c.same("model.x0", m.x0, b.x0);
+  c.same("model.y0", m.y0, b.y0);
+  c.same("model.radius", m.radius, b.radius);
+  c.same("model.cell_area", m.cell_area, b.cell_area);
+  c.same("model.mass", m.mass, b.mass);
+  c.same("model.bond_class", m.bond_class, b.bond_class);
+
+  // Scalars: the time step, the time and step within the run, the ledgers finite.
+  const TimeStepInfo& ts = s.dt_info_;
+  const double end = s.case_.time.end;
+  if (!(std::isfinite(ts.dt) && ts.dt > 0 && end / ts.dt <= kMaxSteps))
+    c.fail("record 'dt_info' holds the time step " + number(ts.dt) + " s, expected a finite step above " +
+           number(end / kMaxSteps) + " s");
+  for (const auto& [field, v] : {std::pair{"dt_critical", ts.dt_critical}, std::pair{"dt_bloch", ts.dt_bloch},
+                                 std::pair{"dt_finite", ts.dt_finite}, std::pair{"dt_eq24", ts.dt_eq24}})
+    if (!(v >= 0))  // infinite where nothing bounds it (finite_model_step of 0)
+      c.fail(std::string("record 'dt_info' holds ") + field + " = " + number(v) + ", expected >= 0");
+  if (ts.finite_iterations < 0)
+    c.fail("record 'dt_info' holds finite_iterations = " + std::to_string(ts.finite_iterations) + ", expected >= 0");
+  const double dt = ts.dt;
+  const double steps = std::ceil(end / dt - 1e-9);
+  c.scalar("time", s.time_, 0, steps * dt);
+  if (s.step_ < 0 || static_cast<double>(s.step_) > steps)
+    c.fail("record 'step' is " + std::to_string(s.step_) + ", outside 0.." + number(steps) + " (the run's steps)");
+  if (std::abs(static_cast<double>(s.step_) * dt - s.time_) > 1e-9 * std::max(s.time_, dt))
+    c.fail("record 'time' is " + number(s.time_) + " s, but step " + std::to_string(s.step_) + " at dt = " + number(dt) +
+           " s is t = " + number(static_cast<double>(s.step_) * dt) + " s");
+  c.scalar("model.time", m.time, 0, s.time_);
+  c.scalar("last_checked_time", s.last_checked_time_, 0, s.time_);
+  for (const auto& [name, e] : {std::pair{std::string("energy"), &s.energy_}, std::pair{std::string("last_checked"), &s.last_checked_}})
+    for (const auto& [field, v] :
+         {std::pair{"kinetic", e->kinetic}, std::pair{"elastic", e->elastic}, std::pair{"external_work", e->external_work},
+          std::pair{"damping", e->damping}, std::pair{"plastic", e->plastic}, std::pair{"fracture", e->fracture},
+          std::pair{"contact_damping", e->contact_damping}, std::pair{"friction", e->friction},
+          std::pair{"break_kinetic", e->break_kinetic}, std::pair{"initial", e->initial}, std::pair{"scale", e->scale}})
+      c.finite(name + "." + field, v);
+  for (const auto& [name, v] :
+       {std::pair{"max_energy_error", s.max_energy_error_}, std::pair{"p_max", s.p_max_},
+        std::pair{"ext_b_before", s.ext_b_before_}, std::pair{"damp_b_before", s.damp_b_before_},
+        std::pair{"ext_a", s.ext_a_}, std::pair{"damp_a", s.damp_a_}, std::pair{"initial_energy", s.initial_energy_},
+        std::pair{"contact_damping_work", s.contact_damping_work_},
+        std::pair{"contact_friction_work", s.contact_friction_work_}, std::pair{"model.thickness", m.thickness}})
+    c.finite(name, v);
+
+  // The run loop's state: output times finite and not negative, frames in time order and
+  // named as `hexdem run` names them, inside the output folder.
+  for (const auto& [name, v] : {std::pair{"run.next_frame", run.next_frame}, std::pair{"run.next_probe", run.next_probe},
+                                std::pair{"run.next_checkpoint", run.next_checkpoint}, std::pair{"run.max_error", run.max_error}})
+    c.scalar(name, v, 0, std::numeric_limits<double>::max());
+  for (std::size_t k = 0; k < run.frames.size(); ++k) {
+    const double t = run.frames[k].time;
+    const double before = k > 0 ? run.frames[k - 1].time : 0.0;
+    if (!std::isfinite(t) || t < before || t > steps * dt)
+      c.fail("record 'run.frame_times' element " + std::to_string(k) + " is " + number(t) + ", expected a time in [" +
+             number(before) + ", " + number(steps * dt) + "] s");
+    if (!frame_file_ok(run.frames[k].file, s.case_.name))
+      c.fail("record 'run.frame_files' line " + std::to_string(k + 1) + " is '" + run.frames[k].file + "', not a frame '" +
+             s.case_.name + "/" + s.case_.name + "_<step>.vtu' of the output folder");
+  }
+}
+
+namespace {
 
 // ---- coverage -----------------------------------------------------------------------
 
@@ -605,13 +906,16 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
     std::memcpy(&n, take(8), 8);
     if (elem == 0 || n > (end - at) / elem)
       throw InputError(path + ": damaged checkpoint: record '" + name + "' runs past the end of the file");
-    records[name] = {elem, static_cast<std::size_t>(n), take(static_cast<std::size_t>(elem * n))};
+    if (!records.emplace(name, Record{elem, static_cast<std::size_t>(n), take(static_cast<std::size_t>(elem * n))}).second)
+      throw InputError(path + ": damaged checkpoint: record '" + name + "' appears twice");
   }
   if (at != end) throw InputError(path + ": damaged checkpoint: " + std::to_string(end - at) + " bytes after the last record");
 
+  const Built built = CheckpointAccess::built(s);
   Reader r(path, std::move(records));
   CheckpointAccess::visit_solver(s, r);
   load_run(r, run);
+  CheckpointAccess::check_restored(s, built, run, Check(path));
   // Every per-disk and per-bond vector must match the lattice the case meshes to.
   const Model& m = s.model();
   if (m.ux.size() != m.num_disks() || m.f_n.size() != m.num_bonds() || m.x0.size() != s.model().num_disks())

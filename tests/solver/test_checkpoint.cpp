@@ -6,10 +6,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "hexdem/error.hpp"
 #include "hexdem/solver/case_toml.hpp"
@@ -242,6 +248,184 @@ TEST(Checkpoint, AnotherCaseOrLatticeIsRefused) {
   for (auto& body : coarse.outline.bodies) body.radius = 0.6e-3;
   Solver d(coarse, mesh_case(coarse));
   EXPECT_THROW(read_checkpoint(p, d, run), InputError);
+}
+
+/// One record of a checkpoint file (checkpoint.hpp, "File layout").
+struct RawRecord {
+  std::string name;
+  std::uint32_t elem = 0;
+  std::uint64_t count = 0;
+  std::string data;
+};
+
+/// Rewrites the checkpoint `from` into `to` with `edit` applied to its records and a fresh
+/// checksum: a file whose checksum is valid but whose content is whatever `edit` made it.
+void forge(const std::string& from, const std::string& to, const std::function<void(std::vector<RawRecord>&)>& edit) {
+  const std::string in = slurp(from);
+  constexpr std::size_t header = 8 + 4 + 8 + 8 + 8;
+  ASSERT_GE(in.size(), header + 8);
+  std::uint64_t count = 0;
+  std::memcpy(&count, in.data() + header - 8, 8);
+  std::vector<RawRecord> records;
+  std::size_t at = header;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    RawRecord r;
+    std::uint32_t len = 0;
+    std::memcpy(&len, in.data() + at, 4);
+    r.name = in.substr(at + 4, len);
+    at += 4 + len;
+    std::memcpy(&r.elem, in.data() + at, 4);
+    std::memcpy(&r.count, in.data() + at + 4, 8);
+    at += 12;
+    r.data = in.substr(at, r.elem * r.count);
+    at += r.data.size();
+    records.push_back(std::move(r));
+  }
+  ASSERT_EQ(at, in.size() - 8);
+  edit(records);
+  std::string out = in.substr(0, header - 8);
+  auto put = [&out](auto v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  put(static_cast<std::uint64_t>(records.size()));
+  for (const RawRecord& r : records) {
+    put(static_cast<std::uint32_t>(r.name.size()));
+    out += r.name;
+    put(r.elem);
+    put(r.count);
+    out += r.data;
+  }
+  put(fnv1a(out.data(), out.size()));
+  std::ofstream(to, std::ios::binary) << out;
+}
+
+RawRecord& record(std::vector<RawRecord>& records, const std::string& name) {
+  for (RawRecord& r : records)
+    if (r.name == name) return r;
+  ADD_FAILURE() << "no record " << name;
+  return records.front();
+}
+
+/// Sets the T at byte `offset` of element k of a record (offset 0 of an element of size T: the element).
+template <class T>
+std::function<void(std::vector<RawRecord>&)> set_element(const std::string& name, std::size_t k, T value,
+                                                         std::size_t offset = 0) {
+  return [=](std::vector<RawRecord>& records) {
+    RawRecord& r = record(records, name);
+    ASSERT_GE(r.elem, offset + sizeof(T)) << name;
+    ASSERT_LT(k, r.count) << name;
+    std::memcpy(r.data.data() + k * r.elem + offset, &value, sizeof(T));
+  };
+}
+
+std::function<void(std::vector<RawRecord>&)> set_text(const std::string& name, const std::string& text) {
+  return [=](std::vector<RawRecord>& records) {
+    RawRecord& r = record(records, name);
+    r.data = text;
+    r.count = text.size();
+  };
+}
+
+TEST(Checkpoint, ForgedContentWithAValidChecksumIsRefused) {
+  // A checkpoint whose checksum is right but whose content does not fit the model it is
+  // read into: one line naming the file, the record and the value (InputError: exit code 2),
+  // before anything reads an index out of range.
+  const Case c = parse_case(kImpact, "impact.toml", ".");
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  advance(a, 10);
+  const std::int64_t disks = static_cast<std::int64_t>(a.model().num_disks());
+  const std::int64_t bonds = static_cast<std::int64_t>(a.model().num_bonds());
+  RunState run;
+  run.frames = {{0.0, "impact/impact_000000000.vtu"}, {a.time() / 2, "impact/impact_000000005.vtu"}};
+  run.last_frame = "out/impact/impact_000000005.vtu";
+  const std::string good = temp_path("good.chk"), bad = temp_path("forged.chk");
+  write_checkpoint(good, a, run);
+  {
+    // Unchanged, the rewritten file reads (the forging itself changes nothing).
+    forge(good, bad, [](std::vector<RawRecord>&) {});
+    Solver b(c, lattice);
+    RunState back;
+    EXPECT_NO_THROW(read_checkpoint(bad, b, back));
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Forgery {
+    const char* what;
+    std::function<void(std::vector<RawRecord>&)> edit;
+    std::string message;
+  };
+  const std::vector<Forgery> forgeries = {
+      {"bond end out of range", set_element<std::int32_t>("model.bi", 0, 1000000),
+       "record 'model.bi' element 0 is 1000000, outside 0.." + std::to_string(disks - 1)},
+      {"negative bond end", set_element<std::int32_t>("model.bj", 3, -1), "record 'model.bj' element 3 is -1"},
+      {"bond ends swapped", [](std::vector<RawRecord>& r) {
+         std::int32_t i = 0, j = 0;
+         std::memcpy(&i, record(r, "model.bi").data.data(), 4);
+         std::memcpy(&j, record(r, "model.bj").data.data(), 4);
+         std::memcpy(record(r, "model.bi").data.data(), &j, 4);
+         std::memcpy(record(r, "model.bj").data.data(), &i, 4);
+       }, "record 'model.bj' element 0 is"},
+      {"adjacency offset past the entries", set_element<std::int32_t>("model.adj_offset", static_cast<std::size_t>(disks), 100000000),
+       "record 'model.adj_offset' element " + std::to_string(disks) + " is 100000000, outside 0.." + std::to_string(2 * bonds)},
+      {"adjacency offsets not monotone", set_element<std::int32_t>("model.adj_offset", 2, 0),
+       "record 'model.adj_offset' element 2 is 0, below element 1"},
+      {"adjacency entry past the bonds", set_element<std::int32_t>("model.adj_entry", 0, 100000000),
+       "record 'model.adj_entry' element 0 is 100000000, not a bond"},
+      {"adjacency entry ~b past the bonds", set_element<std::int32_t>("model.adj_entry", 1, ~100000000),
+       "record 'model.adj_entry' element 1 is -100000001, not a bond"},
+      {"bond state out of the enum", set_element<std::uint8_t>("model.state", 0, 200),
+       "record 'model.state' element 0 is 200, outside 0..4"},
+      {"disk kind out of the enum", set_element<std::uint8_t>("model.kind", 0, 200), "record 'model.kind' element 0 is 200"},
+      {"body out of range", set_element<std::int32_t>("model.body", 0, 99), "record 'model.body' element 0 is 99"},
+      {"body material not the case's", set_element<std::int32_t>("model.body_material", 0, 99),
+       "record 'model.body_material' element 0 is 99"},
+      {"moved reference centre", set_element<double>("model.x0", 3, 5.0), "record 'model.x0' element 3 is 5"},
+      {"failed row out of range", set_element<std::int32_t>("model.failed_row", 0, 1000000),
+       "record 'model.failed_row' element 0 is 1000000"},
+      {"short per-disk record", [](std::vector<RawRecord>& r) {
+         RawRecord& vx = record(r, "model.vx");
+         vx.data.resize(8);
+         vx.count = 1;
+       }, "record 'model.vx' has 1 elements, the case's model has " + std::to_string(disks)},
+      {"contact between missing disks", [](std::vector<RawRecord>& r) {
+         RawRecord& ct = record(r, "contacts");  // a contact of no force in front of the list
+         const std::int32_t ends[2] = {5000000, 7000000};
+         std::string first(ct.elem, '\0');
+         std::memcpy(first.data(), ends, sizeof ends);
+         ct.data.insert(0, first);
+         ++ct.count;
+       }, "record 'contacts' element 0 joins disks 5000000 and 7000000"},
+      {"NaN time", set_element<double>("time", 0, nan), "record 'time' is nan"},
+      {"time past the end", set_element<double>("time", 0, 1.0), "record 'time' is 1, expected a finite value in [0, "},
+      {"time not step x dt", set_element<double>("time", 0, 0.5 * a.time()), "but step 10 at dt"},
+      {"huge step", set_element<std::int64_t>("step", 0, std::int64_t{1} << 62), "record 'step' is 4611686018427387904"},
+      {"negative step", set_element<std::int64_t>("step", 0, -1), "record 'step' is -1"},
+      {"NaN time step", set_element<double>("dt_info", 0, nan), "record 'dt_info' holds the time step nan"},
+      {"NaN energy", set_element<double>("energy", 0, nan, sizeof(double)), "record 'energy.elastic' is nan"},
+      {"NaN frame time", set_element<double>("run.frame_times", 1, nan), "record 'run.frame_times' element 1 is nan"},
+      {"NaN next frame", set_element<double>("run.next_frame", 0, nan), "record 'run.next_frame' is nan"},
+      {"frame path with ..", set_text("run.frame_files", "impact/impact_000000000.vtu\n../../victim.vtu\n"),
+       "record 'run.frame_files' line 2 is '../../victim.vtu'"},
+      {"absolute frame path", set_text("run.frame_files", "/tmp/impact/impact_000000000.vtu\nimpact/impact_000000005.vtu\n"),
+       "record 'run.frame_files' line 1 is '/tmp/impact/impact_000000000.vtu'"},
+      {"frame of another folder", set_text("run.frame_files", "impact/impact_000000000.vtu\nimpact/../impact/impact_000000005.vtu\n"),
+       "record 'run.frame_files' line 2"},
+      {"duplicate record", [](std::vector<RawRecord>& r) { r.push_back(record(r, "step")); }, "record 'step' appears twice"},
+  };
+  const Solver fresh(c, lattice);
+  for (const Forgery& f : forgeries) {
+    SCOPED_TRACE(f.what);
+    forge(good, bad, f.edit);
+    Solver b = fresh;  // a solver freshly built from the case, as `hexdem run --restart` reads into
+    RunState back;
+    try {
+      read_checkpoint(bad, b, back);
+      ADD_FAILURE() << "a forged checkpoint (" << f.what << ") was read";
+    } catch (const InputError& e) {
+      const std::string text = e.what();
+      EXPECT_EQ(text.rfind(bad + ": damaged checkpoint: ", 0), 0u) << text;
+      EXPECT_NE(text.find(f.message), std::string::npos) << text;
+      EXPECT_EQ(text.find('\n'), std::string::npos) << text;
+    }
+  }
 }
 
 }  // namespace

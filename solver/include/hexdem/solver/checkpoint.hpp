@@ -70,7 +70,14 @@ void write_checkpoint(const std::string& path, const Solver& s, const RunState& 
 
 /// Reads a checkpoint into `s`, a Solver freshly built from the same case, and `run`.
 /// Throws InputError with a one-line message naming the file if it is not a checkpoint, is
-/// truncated or damaged, has another format version, or belongs to another case or lattice.
+/// truncated or damaged, has another format version, or belongs to another case or lattice,
+/// and, before returning, if its content does not fit the model and the run (a checksum
+/// proves only that the file is the one written): the record and the offending value of a
+/// vector of the wrong length, an index out of range (bond ends, adjacency, bodies, failed
+/// rows, contacts), an enumerated value that is none of its values, a constant of the model
+/// that is not the one the case builds, a time, step or time step that is not finite or
+/// outside the run, or a frame that is not `<case>/<case>_<step>.vtu` in the output folder
+/// (docs/file-format.md, "Checkpoints"). `s` may then hold part of the checkpoint.
 void read_checkpoint(const std::string& path, Solver& s, RunState& run);
 
 /// Members of Model and Solver that the checkpoint's list of members does not cover
