@@ -2,12 +2,14 @@
 /// Reads an outline from a DXF drawing (format notes: docs/outline-dxf.md).
 ///
 /// Two passes over the file. A light pre-scan of the group-code pairs checks that the file is
-/// an ASCII DXF and counts the entity types of the ENTITIES section, so that every type that is
-/// skipped (including the ones dxflib does not parse at all) gets one warning line. Then dxflib
-/// parses the file and a DL_CreationAdapter collects LINE, ARC, CIRCLE, LWPOLYLINE and POLYLINE
-/// entities of model space as "pieces": paths of straight and circular segments in drawing
-/// units. Closed pieces are loops by themselves; open pieces are chained end to end into
-/// loops. Arcs are flattened, the loops are scaled to metres and nested into bodies and holes.
+/// an ASCII DXF that dxflib reads as written (complete, lines that fit its buffer, vertex counts
+/// that match, numbers where numbers belong) and counts the entity types of the ENTITIES
+/// section, so that every type that is skipped (including the ones dxflib does not parse at
+/// all) gets one warning line. Then dxflib parses the file and a DL_CreationAdapter collects
+/// LINE, ARC, CIRCLE, LWPOLYLINE and POLYLINE entities of model space as "pieces": paths of
+/// straight and circular segments in drawing units. Closed pieces are loops by themselves; open
+/// pieces are chained end to end into loops. Arcs are flattened, the loops are scaled to metres
+/// and nested into bodies and holes.
 
 #include "hexdem/meshing/outline_dxf.hpp"
 
@@ -100,8 +102,9 @@ bool is_real_code(int code) {
          (code >= 1010 && code <= 1059);
 }
 
-/// Whether `value` reads as a finite real number (dxflib also accepts a decimal comma).
-bool finite_real(std::string_view value) {
+/// `value` as a finite real number (dxflib also accepts a decimal comma); nullopt if it is not
+/// one.
+std::optional<double> finite_real(std::string_view value) {
   std::string text(value);
   std::replace(text.begin(), text.end(), ',', '.');
   const char* first = text.data();
@@ -109,19 +112,53 @@ bool finite_real(std::string_view value) {
   if (first != last && *first == '+') ++first;
   double v = 0.0;
   const auto parsed = std::from_chars(first, last, v);
-  return parsed.ec == std::errc() && parsed.ptr == last && std::isfinite(v);
+  if (parsed.ec != std::errc() || parsed.ptr != last || !std::isfinite(v)) return std::nullopt;
+  return v;
 }
+
+/// Whether `value` is written as an integer (optional sign, digits), whatever its size.
+bool is_integer(std::string_view value) {
+  if (!value.empty() && (value.front() == '+' || value.front() == '-')) value.remove_prefix(1);
+  return !value.empty() &&
+         std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+/// `value` (written as an integer) as a 64-bit integer; nullopt beyond that range.
+std::optional<std::int64_t> to_int64(std::string_view value) {
+  if (!value.empty() && value.front() == '+') value.remove_prefix(1);
+  std::int64_t v = 0;
+  const auto parsed = std::from_chars(value.data(), value.data() + value.size(), v);
+  if (parsed.ec != std::errc() || parsed.ptr != value.data() + value.size()) return std::nullopt;
+  return v;
+}
+
+/// Longest line dxflib reads whole [characters, without the newline]: it reads each line with
+/// fgets into DL_DXF_MAXLINE bytes, which also hold the newline and the terminating NUL. A
+/// longer line is read as two, and every pair after it is misread (the entity is lost silently).
+constexpr std::size_t kMaxLineLength = DL_DXF_MAXLINE - 2;
+
+/// Largest |bulge| of a polyline segment [-]. Bulge = tan(theta / 4): as it grows, theta tends
+/// to a full turn, the arc's radius is about chord * |bulge| / 4 and its ends approach each
+/// other; beyond 1 / kRelativeTolerance the gap between the ends (4 / |bulge| of the radius)
+/// is below the chaining tolerance, and the segment is no longer a meaningful arc.
+constexpr double kMaxBulge = 1.0 / kRelativeTolerance;
 
 /// What the pre-scan learns about the file.
 struct ScanResult {
   std::map<std::string, std::int64_t> model_counts;  ///< entities of model space, per type
   std::int64_t paper_count = 0;                      ///< entities of paper space
   std::int64_t entity_count = 0;                     ///< all entities of the ENTITIES section
+  /// $INSUNITS of the header as written (an integer), if present. dxflib would read text as 0
+  /// and wrap codes beyond int, so the value is taken from here.
+  std::optional<std::string> insunits;
 };
 
 /// Walks the group-code/value pairs of an ASCII DXF and counts the entities of the ENTITIES
 /// section by type (VERTEX, SEQEND and ATTRIB belong to the entity before them). Throws when
-/// the text is not a DXF file.
+/// the text is not a DXF file, or has what dxflib would misread silently: a truncated file, a
+/// line too long for its buffer or with a NUL character, a vertex count of an LWPOLYLINE that
+/// differs from its vertices (dxflib allocates and reads as many as the count says), a bulge
+/// out of range, a $INSUNITS that is not an integer.
 ScanResult prescan(const std::string& path, const std::string& text) {
   const std::string not_dxf = path + ": not a DXF file or no entities";
   if (text.rfind("AutoCAD Binary DXF", 0) == 0)
@@ -139,10 +176,14 @@ ScanResult prescan(const std::string& path, const std::string& text) {
     ++line_number;
     return true;
   };
+  const auto at_line = [&](std::size_t line) { return path + ":" + std::to_string(line) + ": "; };
 
   bool seen_section = false;
+  bool seen_eof = false;
   bool expect_section_name = false;
   bool in_entities = false;
+  bool in_header = false;
+  bool expect_insunits = false;
   std::string current_type;  // entity being read in ENTITIES, empty if none
   bool current_paper = false;
   const auto finish_entity = [&]() {
@@ -156,6 +197,34 @@ ScanResult prescan(const std::string& path, const std::string& text) {
     current_paper = false;
   };
 
+  // The record being read in any section (the value of its group code 0: an entity, VERTEX,
+  // a table entry, ...), its layer, and for an LWPOLYLINE its vertex count and vertices.
+  std::string record;
+  std::size_t record_line = 0;
+  std::optional<std::string> layer;
+  std::optional<std::string> lw_count;
+  std::size_t lw_count_line = 0;
+  std::int64_t lw_vertices = 0;
+  bool lw_closed = false;
+  const auto record_name = [&]() {
+    return record + (layer ? " on layer '" + escape_text(*layer) + "'" : std::string());
+  };
+  const auto finish_record = [&]() {
+    if (record != "LWPOLYLINE") return;
+    if (!lw_count)
+      throw InputError(at_line(record_line) + record_name() + ": no vertex count (group code 90)");
+    if (lw_vertices == 0 && lw_closed && to_int64(*lw_count) != 0)
+      throw InputError(at_line(lw_count_line) + "degenerate outline: closed " + record_name() +
+                       " has fewer than 3 distinct vertices (it has none; its vertex count (group "
+                       "code 90) is " +
+                       *lw_count + ")");
+    if (to_int64(*lw_count) != lw_vertices)
+      throw InputError(at_line(lw_count_line) + record_name() +
+                       ": vertex count (group code 90) is " + *lw_count + ", but " +
+                       std::to_string(lw_vertices) +
+                       (lw_vertices == 1 ? " vertex is" : " vertices are") + " listed");
+  };
+
   std::string_view code_line, value_line;
   while (next_line(code_line)) {
     const std::string_view code_text = trim(code_line);
@@ -165,20 +234,58 @@ ScanResult prescan(const std::string& path, const std::string& text) {
         std::from_chars(code_text.data(), code_text.data() + code_text.size(), code);
     if (parsed.ec != std::errc() || parsed.ptr != code_text.data() + code_text.size())
       throw InputError(not_dxf + " (line " + std::to_string(line_number) + " is not a group code)");
+    if (code_line.size() > kMaxLineLength)
+      throw InputError(at_line(line_number) + "line of " + std::to_string(code_line.size()) +
+                       " characters (at most " + std::to_string(kMaxLineLength) + " can be read)");
     if (!next_line(value_line)) break;
     const std::string_view value = trim(value_line);
+    const auto of_record = [&]() {
+      return "group code " + std::to_string(code) + " of " +
+             (record.empty() ? std::string("the file") : record) + ": ";
+    };
+    if (value_line.size() > kMaxLineLength)
+      throw InputError(at_line(line_number) + of_record() + "line of " +
+                       std::to_string(value_line.size()) + " characters (at most " +
+                       std::to_string(kMaxLineLength) + " can be read)");
+    if (value_line.find('\0') != std::string_view::npos)
+      // dxflib's C strings would end at it (a layer "r\0m" would name the set "r").
+      throw InputError(at_line(line_number) + of_record() + "NUL character in the value ('" +
+                       escape_text(value.substr(0, 40)) + "')");
 
+    if (expect_insunits && code != 0 && code != 9) {
+      // dxflib would read text as 0 (unitless, taken as metres) and wrap codes beyond int.
+      expect_insunits = false;
+      if (!is_integer(value))
+        throw InputError(at_line(line_number) + "header variable $INSUNITS: not an integer (got '" +
+                         escape_text(value.substr(0, 40)) + "')");
+      result.insunits = std::string(value);
+    }
     if (expect_section_name) {
       expect_section_name = false;
-      if (code == 2) in_entities = (value == "ENTITIES");
+      if (code == 2) {
+        in_entities = (value == "ENTITIES");
+        in_header = (value == "HEADER");
+      }
     }
     if (code == 0) {
+      finish_record();
+      record = std::string(value);
+      record_line = line_number;
+      layer.reset();
+      lw_count.reset();
+      lw_vertices = 0;
+      lw_closed = false;
+      expect_insunits = false;  // a variable without a value
+      if (value == "ENDSEC") in_header = false;
       if (value == "SECTION") {
         seen_section = true;
         expect_section_name = true;
         continue;
       }
-      if (value == "EOF") break;
+      if (value == "EOF") {
+        seen_eof = true;
+        break;
+      }
       if (!in_entities) continue;
       if (value == "ENDSEC") {
         finish_entity();
@@ -187,18 +294,60 @@ ScanResult prescan(const std::string& path, const std::string& text) {
         finish_entity();
         current_type = std::string(value);
       }
-    } else if (code == 67 && in_entities && !current_type.empty()) {
+      continue;
+    }
+    if (code == 9 && in_header) {
+      expect_insunits = (value == "$INSUNITS");
+      continue;
+    }
+    if (code == 8) layer = std::string(value);
+    if (record == "LWPOLYLINE") {
+      if (code == 90) {
+        if (lw_count)
+          throw InputError(at_line(line_number) + record_name() +
+                           ": second vertex count (group code 90)");
+        if (!is_integer(value))
+          throw InputError(at_line(line_number) + of_record() + "not an integer (got '" +
+                           escape_text(value.substr(0, 40)) + "')");
+        lw_count = std::string(value);
+        lw_count_line = line_number;
+      } else if (code == 10) {
+        if (!lw_count)
+          throw InputError(at_line(line_number) + record_name() +
+                           ": vertex (group code 10) before the vertex count (group code 90)");
+        ++lw_vertices;
+      } else if (code == 70) {
+        lw_closed = (to_int64(value).value_or(0) & 1) != 0;  // as dxflib reads it
+      } else if (code == 42 && lw_vertices == 0) {
+        // dxflib would write it before the start of its vertex array.
+        throw InputError(at_line(line_number) + record_name() +
+                         ": bulge (group code 42) before the first vertex");
+      }
+    }
+    if (code == 67 && in_entities && !current_type.empty()) {
       current_paper = (value == "1");
-    } else if (in_entities && is_real_code(code) && !finite_real(value)) {
-      // dxflib reads what is not a number as 0, which would silently move the point.
-      throw InputError(path + ":" + std::to_string(line_number) + ": group code " +
-                       std::to_string(code) + " of " +
-                       (current_type.empty() ? std::string("an entity") : current_type) +
-                       ": not a finite number (got '" + escape_text(value.substr(0, 40)) + "')");
+    } else if (in_entities && is_real_code(code)) {
+      const std::optional<double> number = finite_real(value);
+      if (!number)
+        // dxflib reads what is not a number as 0, which would silently move the point.
+        throw InputError(at_line(line_number) + "group code " + std::to_string(code) + " of " +
+                         (current_type.empty() ? std::string("an entity") : current_type) +
+                         ": not a finite number (got '" + escape_text(value.substr(0, 40)) + "')");
+      if (code == 42 && (record == "LWPOLYLINE" || record == "VERTEX") &&
+          std::abs(*number) > kMaxBulge)
+        throw InputError(at_line(line_number) + of_record() + "bulge out of range (got '" +
+                         escape_text(value.substr(0, 40)) + "'; |bulge| must be at most " +
+                         format_number(kMaxBulge) + ")");
     }
   }
+  if (!seen_section) throw InputError(not_dxf);
+  // dxflib reports an entity when the next group code 0 arrives: without the end marker the
+  // last entity would be lost silently, and a file cut short loses whatever follows the cut.
+  if (!seen_eof)
+    throw InputError(path + ": truncated: no EOF marker (the file ends at line " +
+                     std::to_string(line_number) + ")");
   finish_entity();
-  if (!seen_section || result.entity_count == 0) throw InputError(not_dxf);
+  if (result.entity_count == 0) throw InputError(not_dxf);
   return result;
 }
 
@@ -235,7 +384,6 @@ class Collector : public DL_CreationAdapter {
  public:
   std::vector<Piece> pieces;
   Dropped dropped;
-  std::optional<int> insunits;  ///< $INSUNITS of the header, if present
 
   void processCodeValuePair(unsigned int code, const std::string& value) override {
     if (code == 0) {
@@ -250,10 +398,6 @@ class Collector : public DL_CreationAdapter {
       std::from_chars(v.data(), v.data() + v.size(), flags);
       current_.flags = flags;
     }
-  }
-
-  void setVariableInt(const std::string& key, int value, int /*code*/) override {
-    if (key == "$INSUNITS") insunits = value;
   }
 
   void addBlock(const DL_BlockData& /*data*/) override { in_block_ = true; }
@@ -375,7 +519,8 @@ class Collector : public DL_CreationAdapter {
   /// counted as dropped, if the entity does not lie in a plane parallel to the XY plane.
   std::optional<bool> ocs_mirror(const std::string& type) {
     const double* n = extrusion->getDirection();
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    // The largest component, not the length: the squares of (0, 0, 1e-300) underflow to 0.
+    const double len = std::max({std::abs(n[0]), std::abs(n[1]), std::abs(n[2])});
     if (!(len > 0.0) || std::abs(n[0]) > 1e-9 * len || std::abs(n[1]) > 1e-9 * len) {
       ++dropped.not_planar[type];
       return std::nullopt;
@@ -391,7 +536,12 @@ class Collector : public DL_CreationAdapter {
     Piece piece = std::move(*polyline_);
     polyline_.reset();
     const std::size_t n = piece.points.size();
-    if (n == 0) return;  // a lone vertex is dropped later, like a zero-length entity
+    if (n == 0) {
+      // Kept so that the reader reports it: a closed polyline without vertices is degenerate,
+      // an open one is skipped like a zero-length entity.
+      pieces.push_back(std::move(piece));
+      return;
+    }
     const std::size_t nseg = piece.closed ? n : n - 1;
     for (std::size_t k = 0; k < nseg; ++k) {
       const double bulge = bulges_[k];
@@ -501,7 +651,7 @@ class Reader {
     if (!collector.error.empty()) throw InputError(path_ + ": " + collector.error);
 
     warn_skipped(scan, collector.dropped);
-    scale_ = drawing_scale(collector.insunits);
+    scale_ = drawing_scale(scan.insunits);
     chord_error_ = options_.chord_fraction * radius / scale_;
 
     std::vector<Piece> pieces = std::move(collector.pieces);
@@ -511,9 +661,20 @@ class Reader {
     std::vector<Piece> kept;
     kept.reserve(pieces.size());
     for (Piece& piece : pieces) {
+      if (piece.points.empty()) {  // a polyline without vertices
+        if (piece.closed)
+          throw InputError(path_ + ": degenerate outline: closed " + piece.type + " on layer " +
+                           quoted(piece.layer) +
+                           " has fewer than 3 distinct vertices (it has none)");
+        ++empty_pieces;
+        continue;
+      }
+      // A closed polyline of one vertex is degenerate too; one whose vertices all coincide
+      // has no length.
+      const bool one_vertex = piece.points.size() == 1;
       if (drop_short_segments(piece, tolerance_)) {
         kept.push_back(std::move(piece));
-      } else if (piece.closed && piece.points.size() >= 2) {
+      } else if (piece.closed && (piece.points.size() >= 2 || one_vertex)) {
         throw InputError(path_ + ": degenerate outline: closed " + piece.type + " on layer " +
                          quoted(piece.layer) + " at " + format_point(piece.points.front()) +
                          " has fewer than 3 distinct vertices");
@@ -522,8 +683,8 @@ class Reader {
       }
     }
     if (empty_pieces > 0)
-      warn(path_ + ": skipped " + std::to_string(empty_pieces) + " zero-length " +
-           (empty_pieces == 1 ? "entity" : "entities"));
+      note_skipped("skipped " + std::to_string(empty_pieces) + " zero-length " +
+                   (empty_pieces == 1 ? "entity" : "entities"));
 
     std::vector<RawLoop> loops;
     try {
@@ -533,7 +694,13 @@ class Reader {
       if (what.rfind(path_, 0) == 0) throw;
       throw InputError(path_ + ": " + what);  // from flatten_arc
     }
-    if (loops.empty()) throw InputError(path_ + ": no closed outline");
+    if (loops.empty()) {
+      // The program prints the warnings only after a successful read, so the entities that
+      // were skipped (often the reason nothing is left) are named in the error itself.
+      std::string message = path_ + ": no closed outline";
+      for (const std::string& reason : skipped_) message += "; " + reason;
+      throw InputError(message);
+    }
     Outline outline = nest(loops);
     GeneratorOptions ceiling;
     ceiling.max_disks = kMaxDisksCeiling;
@@ -561,8 +728,17 @@ class Reader {
                        " has a coordinate that is not a finite number");
   }
 
+  /// The "skipped ..." warnings without the file name, for the "no closed outline" error.
+  std::vector<std::string> skipped_;
+
   void warn(const std::string& line) {
     if (warnings_) warnings_->push_back(line);
+  }
+
+  /// Warns that entities were skipped (`what`: "skipped N TYPE entities (reason)").
+  void note_skipped(const std::string& what) {
+    skipped_.push_back(what);
+    warn(path_ + ": " + what);
   }
 
   static std::string entities(std::int64_t n, const std::string& type) {
@@ -576,25 +752,31 @@ class Reader {
         continue;
       std::string reason = "unsupported";
       if (type == "INSERT") reason = "unsupported: block references are not expanded";
-      warn(path_ + ": skipped " + entities(count, type) + " (" + reason + ")");
+      note_skipped("skipped " + entities(count, type) + " (" + reason + ")");
     }
     for (const auto& [type, count] : dropped.mesh)
-      warn(path_ + ": skipped " + entities(count, type) +
-           " (unsupported: polygon or polyface mesh)");
+      note_skipped("skipped " + entities(count, type) + " (unsupported: polygon or polyface mesh)");
     for (const auto& [type, count] : dropped.not_planar)
-      warn(path_ + ": skipped " + entities(count, type) + " (not parallel to the XY plane)");
+      note_skipped("skipped " + entities(count, type) + " (not parallel to the XY plane)");
     if (scan.paper_count > 0)
-      warn(path_ + ": skipped " + std::to_string(scan.paper_count) +
-           (scan.paper_count == 1 ? " entity" : " entities") + " in paper space");
+      note_skipped("skipped " + std::to_string(scan.paper_count) +
+                   (scan.paper_count == 1 ? " entity" : " entities") + " in paper space");
   }
 
-  double drawing_scale(std::optional<int> insunits) {
+  /// `insunits`: the header's $INSUNITS as written (checked to be an integer by the pre-scan).
+  double drawing_scale(const std::optional<std::string>& insunits) {
     if (options_.scale > 0.0) return options_.scale;
     if (!insunits) return 1.0;
-    if (*insunits != 0 && !insunits_factor(*insunits))
-      warn(path_ + ": unknown $INSUNITS code " + std::to_string(*insunits) +
-           "; taking 1 drawing unit = 1 m");
-    return dxf_insunits_to_metres(*insunits);
+    const std::optional<std::int64_t> code = to_int64(*insunits);
+    if (code == 0) return 1.0;
+    const std::optional<double> factor =
+        code && *code > 0 && *code < static_cast<std::int64_t>(kInsunitsMetres.size())
+            ? insunits_factor(static_cast<int>(*code))
+            : std::nullopt;
+    if (factor) return *factor;
+    warn(path_ + ": unknown $INSUNITS code " + escape_text(*insunits) +
+         "; taking 1 drawing unit = 1 m");
+    return 1.0;
   }
 
   /// kRelativeTolerance times the diagonal of the bounding box of all pieces.

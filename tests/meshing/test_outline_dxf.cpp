@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -436,6 +437,30 @@ TEST(OutlineDxf, UnknownInsunitsWarnsAndUsesMetres) {
   EXPECT_EQ(warnings[0], path + ": unknown $INSUNITS code 99; taking 1 drawing unit = 1 m");
 }
 
+TEST(OutlineDxf, HugeInsunitsCodeIsReportedAsWritten) {
+  // Was: "unknown $INSUNITS code 1215752191" (dxflib wraps the value into an int).
+  const std::string path =
+      write_dxf("dxf_huge_units.dxf",
+                std::string("0\nSECTION\n2\nHEADER\n9\n$INSUNITS\n70\n99999999999\n0\nENDSEC\n") +
+                    "0\nSECTION\n2\nENTITIES\n" + kUnitSquareLwpolyline + "0\nENDSEC\n0\nEOF\n");
+  std::vector<std::string> warnings;
+  const Outline outline = read_outline_dxf(path, options(), &warnings);
+  EXPECT_NEAR(area(outline.bodies.at(0).outers.at(0)), 1.0, 1e-15);
+  EXPECT_EQ(warnings,
+            std::vector<std::string>{
+                path + ": unknown $INSUNITS code 99999999999; taking 1 drawing unit = 1 m"});
+}
+
+TEST(OutlineDxf, TinyExtrusionAlongZIsThePlainPlane) {
+  // (0, 0, 1e-300) is the direction +z; its length underflowed to 0 and the circle was dropped.
+  const std::string path =
+      write_dxf("dxf_tiny_extrusion.dxf",
+                "0\nSECTION\n2\nENTITIES\n0\nCIRCLE\n8\nc\n10\n0\n20\n0\n40\n1\n210\n0\n220\n0\n"
+                "230\n1e-300\n0\nENDSEC\n0\nEOF\n");
+  const Outline outline = read_outline_dxf(path, options());
+  ASSERT_EQ(outline.bodies.size(), 1U);
+}
+
 TEST(OutlineDxfErrors, OpenChain) {
   const std::string path = fixture("f_open_chain.dxf");
   const std::string message = read_error(path);
@@ -491,9 +516,198 @@ TEST(OutlineDxfErrors, NoClosedOutline) {
     read_outline_dxf(path, options(), &warnings);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": no closed outline");
+    // The skipped entities are part of the error: warnings are not printed after an error.
+    EXPECT_EQ(std::string(e.what()),
+              path + ": no closed outline; skipped 1 TEXT entity (unsupported)");
   }
   EXPECT_EQ(warnings, std::vector<std::string>{path + ": skipped 1 TEXT entity (unsupported)"});
+}
+
+namespace {
+
+/// A DXF of the given ENTITIES section text, with or without the closing ENDSEC and EOF.
+std::string entities_dxf(const std::string& entities, bool complete = true) {
+  return "0\nSECTION\n2\nENTITIES\n" + entities + (complete ? "0\nENDSEC\n0\nEOF\n" : "");
+}
+
+/// A closed LWPOLYLINE on `layer` with the vertex count `count` (group code 90) and the
+/// vertices of the square (x0, 0)..(x0 + 10, 10), each with bulge `bulge` if not empty.
+std::string square_lwpolyline(const std::string& layer, const std::string& count, double x0 = 0.0,
+                              const std::string& bulge = "") {
+  std::string t = "0\nLWPOLYLINE\n8\n" + layer + "\n90\n" + count + "\n70\n1\n";
+  const double xs[] = {x0, x0 + 10, x0 + 10, x0};
+  const double ys[] = {0, 0, 10, 10};
+  for (int k = 0; k < 4; ++k) {
+    t += "10\n" + std::to_string(xs[k]) + "\n20\n" + std::to_string(ys[k]) + "\n";
+    if (!bulge.empty()) t += "42\n" + bulge + "\n";
+  }
+  return t;
+}
+
+/// One line of message, starting with `prefix`.
+void expect_error_line(const std::string& message, const std::string& prefix) {
+  EXPECT_EQ(message.rfind(prefix, 0), 0U) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+}  // namespace
+
+TEST(OutlineDxfErrors, TruncatedFileIsRefused) {
+  // Was: a file cut inside its second LWPOLYLINE meshed the first body only (dxflib reports an
+  // entity when the next one starts), and one cut after its last entity said "no closed outline".
+  const std::string two = square_lwpolyline("a", "4") + square_lwpolyline("b", "4", 20.0);
+  // Cut after the x of the last vertex.
+  std::string cut_inside = entities_dxf(two, false);
+  for (int k = 0; k < 2; ++k) cut_inside.erase(cut_inside.rfind('\n', cut_inside.size() - 2) + 1);
+  std::string path = write_dxf("dxf_cut_inside.dxf", cut_inside);
+  const auto lines = [](const std::string& text) {
+    return std::to_string(std::count(text.begin(), text.end(), '\n'));
+  };
+  EXPECT_EQ(read_error(path),
+            path + ": truncated: no EOF marker (the file ends at line " + lines(cut_inside) + ")");
+  // Cut after the last entity, after ENDSEC, and between a group code and its value.
+  for (const std::string& text :
+       {entities_dxf(two, false), entities_dxf(two, false) + "0\nENDSEC\n",
+        entities_dxf(two, false) + "0\nENDSEC\n0\n"}) {
+    path = write_dxf("dxf_cut.dxf", text);
+    EXPECT_EQ(read_error(path),
+              path + ": truncated: no EOF marker (the file ends at line " + lines(text) + ")");
+  }
+  // The complete file reads (also with a last line that has no newline).
+  path = write_dxf("dxf_complete.dxf", entities_dxf(two) + "\n");
+  EXPECT_EQ(read_outline_dxf(path, options()).bodies.size(), 2U);
+  path = write_dxf("dxf_complete_no_newline.dxf", entities_dxf(two) + "0\nEOF");
+  EXPECT_EQ(read_error(path), "(no error)");
+}
+
+TEST(OutlineDxfErrors, LwpolylineVertexCountMustMatchItsVertices) {
+  // Was: a count of 3 with 4 vertices meshed a triangle, 0 dropped the square without a word,
+  // 1 called it zero-length, 2e9 ran out of memory (exit 1, no file name) and 1e8 took 6 s and
+  // GBs: dxflib allocates and reads as many vertices as the count says.
+  const std::string ok = square_lwpolyline("ok", "4", 20.0);
+  // Line of the count's value: SECTION header (4 lines), "0 LWPOLYLINE 8 rim 90".
+  const std::string at = ":10: LWPOLYLINE on layer 'rim': vertex count (group code 90) is ";
+  for (const auto& [count, shown] : std::vector<std::pair<std::string, std::string>>{
+           {"3", "3"},
+           {"0", "0"},
+           {"1", "1"},
+           {"5", "5"},
+           {"-4", "-4"},
+           {"+2000000000", "+2000000000"},
+           {"100000000", "100000000"},
+           {"99999999999999999999", "99999999999999999999"}}) {
+    const std::string path =
+        write_dxf("dxf_count.dxf", entities_dxf(square_lwpolyline("rim", count) + ok));
+    const auto start = std::chrono::steady_clock::now();
+    const std::string message = read_error(path);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(message, path + at + shown + ", but 4 vertices are listed");
+    EXPECT_LT(seconds, 2.0) << count;
+  }
+  // A count that is not an integer, a missing count, and a vertex or bulge out of order.
+  std::string path = write_dxf("dxf_count.dxf", entities_dxf(square_lwpolyline("rim", "4.0")));
+  EXPECT_EQ(read_error(path),
+            path + ":10: group code 90 of LWPOLYLINE: not an integer (got '4.0')");
+  path = write_dxf("dxf_count.dxf",
+                   entities_dxf("0\nLWPOLYLINE\n8\nrim\n70\n1\n10\n0\n20\n0\n10\n1\n20\n0\n"));
+  expect_error_line(read_error(path), path +
+                                          ":12: LWPOLYLINE on layer 'rim': vertex (group code "
+                                          "10) before the vertex count (group code 90)");
+  path = write_dxf("dxf_count.dxf", entities_dxf("0\nLWPOLYLINE\n8\nrim\n70\n1\n0\nLINE\n8\nx\n"));
+  expect_error_line(read_error(path),
+                    path + ":6: LWPOLYLINE on layer 'rim': no vertex count (group code 90)");
+  path = write_dxf("dxf_count.dxf",
+                   entities_dxf("0\nLWPOLYLINE\n8\nrim\n90\n1\n42\n1\n10\n0\n20\n0\n"));
+  expect_error_line(read_error(path), path +
+                                          ":12: LWPOLYLINE on layer 'rim': bulge (group code "
+                                          "42) before the first vertex");
+  // A closed polyline without vertices is degenerate (was: skipped silently).
+  path = write_dxf("dxf_count.dxf", entities_dxf("0\nLWPOLYLINE\n8\nrim\n90\n0\n70\n1\n" + ok));
+  EXPECT_EQ(read_error(path), path +
+                                  ": degenerate outline: closed LWPOLYLINE on layer 'rim' has "
+                                  "fewer than 3 distinct vertices (it has none)");
+  // Also when its count says otherwise (was: skipped silently).
+  path = write_dxf("dxf_count.dxf", entities_dxf("0\nLWPOLYLINE\n8\nrim\n90\n4\n70\n1\n" + ok));
+  EXPECT_EQ(read_error(path), path +
+                                  ":10: degenerate outline: closed LWPOLYLINE on layer 'rim' has "
+                                  "fewer than 3 distinct vertices (it has none; its vertex count "
+                                  "(group code 90) is 4)");
+  // An open one without vertices has no length: skipped with the zero-length warning.
+  path = write_dxf("dxf_count.dxf", entities_dxf("0\nLWPOLYLINE\n8\nrim\n90\n0\n70\n0\n" + ok));
+  std::vector<std::string> warnings;
+  EXPECT_EQ(read_outline_dxf(path, options(), &warnings).bodies.size(), 1U);
+  EXPECT_EQ(warnings, std::vector<std::string>{path + ": skipped 1 zero-length entity"});
+}
+
+TEST(OutlineDxfErrors, LinesTooLongForTheParserAreRefused) {
+  // Was: a layer name of 5000 characters split the line in dxflib, and the entity was lost.
+  const std::string ok = square_lwpolyline("ok", "4", 20.0);
+  std::string path = write_dxf("dxf_long_layer.dxf",
+                               entities_dxf(square_lwpolyline(std::string(5000, 'L'), "4") + ok));
+  EXPECT_EQ(read_error(path), path +
+                                  ":8: group code 8 of LWPOLYLINE: line of 5000 characters "
+                                  "(at most 1022 can be read)");
+  // 1000 characters are read.
+  path = write_dxf("dxf_long_layer.dxf",
+                   entities_dxf(square_lwpolyline(std::string(1000, 'L'), "4") + ok));
+  EXPECT_EQ(read_outline_dxf(path, options()).boundary_names.at(0), std::string(1000, 'L'));
+}
+
+TEST(OutlineDxfErrors, NulCharacterIsRefused) {
+  // Was: the layer "r\0m" became the boundary set "r".
+  const std::string path =
+      write_dxf("dxf_nul.dxf", entities_dxf(square_lwpolyline(std::string("r\0m", 3), "4")));
+  EXPECT_EQ(read_error(path),
+            path + ":8: group code 8 of LWPOLYLINE: NUL character in the value ('r\\x00m')");
+}
+
+TEST(OutlineDxfErrors, InsunitsMustBeAnInteger) {
+  // Was: "mm" was read as 0 (unitless) and the drawing taken as metres.
+  const std::string path =
+      write_dxf("dxf_text_units.dxf", "0\nSECTION\n2\nHEADER\n9\n$INSUNITS\n70\nmm\n0\nENDSEC\n" +
+                                          entities_dxf(kUnitSquareLwpolyline));
+  EXPECT_EQ(read_error(path), path + ":8: header variable $INSUNITS: not an integer (got 'mm')");
+  // A variable without a value is absent (metres), and leaves the next section alone.
+  const std::string bare =
+      write_dxf("dxf_bare_units.dxf", "0\nSECTION\n2\nHEADER\n9\n$INSUNITS\n0\nENDSEC\n" +
+                                          entities_dxf(kUnitSquareLwpolyline));
+  std::vector<std::string> warnings;
+  EXPECT_NEAR(area(read_outline_dxf(bare, options(), &warnings).bodies.at(0).outers.at(0)), 1.0,
+              1e-15);
+  EXPECT_TRUE(warnings.empty());
+}
+
+TEST(OutlineDxfErrors, HugeBulgeIsRefused) {
+  // Was: "no closed outline" for two closed polylines (bulges 1e300 and 1e12).
+  const std::string ok = square_lwpolyline("ok", "4", 20.0);
+  for (const std::string bulge : {"1e300", "1e12", "-1000001"}) {
+    const std::string path =
+        write_dxf("dxf_bulge.dxf", entities_dxf(square_lwpolyline("rim", "4", 0.0, bulge) + ok));
+    EXPECT_EQ(read_error(path), path +
+                                    ":18: group code 42 of LWPOLYLINE: bulge out of range (got '" +
+                                    bulge + "'; |bulge| must be at most 1e+06)");
+  }
+  // Also on the VERTEX of a classic POLYLINE.
+  const std::string path = write_dxf(
+      "dxf_bulge.dxf", entities_dxf("0\nPOLYLINE\n8\np\n66\n1\n70\n1\n0\nVERTEX\n8\np\n10\n0\n20\n0"
+                                    "\n42\n1e9\n0\nVERTEX\n8\np\n10\n1\n20\n0\n0\nSEQEND\n"));
+  EXPECT_EQ(read_error(path), path +
+                                  ":22: group code 42 of VERTEX: bulge out of range (got "
+                                  "'1e9'; |bulge| must be at most 1e+06)");
+}
+
+TEST(OutlineDxfErrors, NoClosedOutlineNamesTheSkippedEntities) {
+  // Was: only "no closed outline": the program prints warnings after a successful read, so the
+  // reason the only circle was dropped was lost.
+  for (const std::string extrusion : {"1\n220\n0\n230\n0", "0\n220\n0\n230\n0"}) {
+    const std::string path =
+        write_dxf("dxf_extrusion.dxf",
+                  entities_dxf("0\nCIRCLE\n8\nc\n10\n0\n20\n0\n40\n5\n210\n" + extrusion + "\n"));
+    EXPECT_EQ(read_error(path), path +
+                                    ": no closed outline; skipped 1 CIRCLE entity (not "
+                                    "parallel to the XY plane)");
+  }
 }
 
 TEST(OutlineDxfErrors, NoRadius) {

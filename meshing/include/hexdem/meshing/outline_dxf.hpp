@@ -14,7 +14,12 @@
 namespace hexdem::meshing {
 
 /// Reads a DXF file. Unsupported entity types are skipped; one warning line per type is
-/// appended to `warnings` (if given). Throws InputError naming the file and the problem.
+/// appended to `warnings` (if given). Throws InputError naming the file and the problem, also
+/// for what dxflib would misread silently: a file without its EOF marker (truncated), a line
+/// too long for dxflib or with a NUL character, an LWPOLYLINE whose vertex count (group code 90)
+/// differs from its vertices, a bulge beyond 1e6, a $INSUNITS that is not an integer. When no
+/// closed outline remains, the error names the skipped entities (the warnings are not printed
+/// after an error).
 Outline read_outline_dxf(const std::string& path, const ReadOptions& options,
                          std::vector<std::string>* warnings = nullptr);
 
