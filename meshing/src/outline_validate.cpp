@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -209,12 +211,88 @@ struct BodyLoop {
   bool hole;
 };
 
-/// Whether p lies strictly inside `polygon` (bounding box first).
-bool strictly_inside(const Point& p, const Polygon& polygon) {
-  const CGAL::Bbox_2 box = polygon.bbox();
-  const double x = CGAL::to_double(p.x()), y = CGAL::to_double(p.y());
-  if (x < box.xmin() || x > box.xmax() || y < box.ymin() || y > box.ymax()) return false;
-  return polygon.bounded_side(p) == CGAL::ON_BOUNDED_SIDE;
+/// For each loop, the other loops that strictly contain its first vertex, by the crossing
+/// rule: a ray from the vertex towards +x crosses an odd number of a loop's edges iff the
+/// loop contains it (half-open in y, so a ray through a vertex counts it once; exact
+/// predicates). No two loops meet (find_contact ran first), so the vertex lies on no other
+/// loop. The edges are bucketed in horizontal bands and each ray reads the edges of its band
+/// only: about O(edges + loops x band size), where one point-in-polygon test per pair of
+/// loops took minutes on outlines of thousands of holes or hundreds of nested rings.
+std::vector<std::vector<std::size_t>> containing_loops(const std::vector<BodyLoop>& loops) {
+  struct Edge {
+    double ylo, yhi;  // the edge's bounding box in y (outward rounded by CGAL) [m]
+    std::size_t loop, k;
+  };
+  std::vector<Edge> edges;
+  double ymin = std::numeric_limits<double>::infinity(), ymax = -ymin;
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    const Polygon& polygon = loops[l].polygon;
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      const CGAL::Bbox_2 box = polygon.edge(k).bbox();
+      edges.push_back({box.ymin(), box.ymax(), l, k});
+      ymin = std::min(ymin, box.ymin());
+      ymax = std::max(ymax, box.ymax());
+    }
+  }
+  std::vector<std::vector<std::size_t>> inside(loops.size());
+  if (edges.empty() || !(ymax > ymin)) return inside;
+  // Bands: about one per 4 edges, halved while the entries (an edge in every band it spans)
+  // exceed 16 per edge (long edges: a comb of full-height teeth).
+  std::size_t nb = std::max<std::size_t>(1, edges.size() / 4);
+  std::vector<std::size_t> start;
+  double inv = 0;
+  const auto band_of = [&](double y) {
+    const double t = (y - ymin) * inv;
+    if (!(t > 0)) return std::size_t{0};
+    return t >= static_cast<double>(nb - 1) ? nb - 1 : static_cast<std::size_t>(t);
+  };
+  for (;;) {
+    inv = static_cast<double>(nb) / (ymax - ymin);
+    start.assign(nb + 1, 0);
+    std::size_t entries = 0;
+    for (const Edge& e : edges) {
+      const std::size_t b0 = band_of(e.ylo), b1 = band_of(e.yhi);
+      entries += b1 - b0 + 1;
+      for (std::size_t b = b0; b <= b1; ++b) ++start[b + 1];
+    }
+    if (entries <= 16 * edges.size() || nb == 1) break;
+    nb = std::max<std::size_t>(1, nb / 2);
+  }
+  for (std::size_t b = 0; b < nb; ++b) start[b + 1] += start[b];
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1), in_band(start[nb]);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    for (std::size_t b = band_of(edges[e].ylo); b <= band_of(edges[e].yhi); ++b) in_band[fill[b]++] = e;
+
+  std::vector<std::uint8_t> parity(loops.size(), 0);
+  std::vector<std::size_t> touched;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    const Point& p = loops[i].polygon[0];
+    const double py = CGAL::to_double(p.y());
+    if (!(py >= ymin && py <= ymax)) continue;
+    const std::size_t b = band_of(py);
+    touched.clear();
+    for (std::size_t n = start[b]; n < start[b + 1]; ++n) {
+      const Edge& e = edges[in_band[n]];
+      if (e.loop == i || py < e.ylo || py > e.yhi) continue;
+      const Polygon& polygon = loops[e.loop].polygon;
+      const Point& u = polygon[e.k];
+      const Point& v = polygon[(e.k + 1) % polygon.size()];
+      const CGAL::Comparison_result uv = CGAL::compare_y(u, v);
+      if (uv == CGAL::EQUAL) continue;  // horizontal: the ray never crosses it
+      const Point& lo = uv == CGAL::SMALLER ? u : v;
+      const Point& hi = uv == CGAL::SMALLER ? v : u;
+      if (CGAL::compare_y(lo, p) == CGAL::LARGER || CGAL::compare_y(p, hi) != CGAL::SMALLER) continue;
+      if (CGAL::orientation(lo, hi, p) != CGAL::LEFT_TURN) continue;  // p right of the edge
+      if (parity[e.loop] == 0) touched.push_back(e.loop);
+      parity[e.loop] ^= 1;
+    }
+    for (const std::size_t l : touched) {
+      if (parity[l] != 0) inside[i].push_back(l);
+      parity[l] = 0;
+    }
+    std::sort(inside[i].begin(), inside[i].end());
+  }
+  return inside;
 }
 
 /// Checks that the loops of one body neither touch nor overlap and that every hole lies in
@@ -240,20 +318,21 @@ std::vector<PolygonWithHoles> assemble_body(const BodyOutline& body,
   // decides. The body's region at a point is (outers around it) - (holes around it): 1 inside
   // the body, 0 outside.
   std::vector<std::size_t> owner(loops.size(), loops.size());
+  const std::vector<std::vector<std::size_t>> around = containing_loops(loops);
+  std::vector<K::FT> area(loops.size());  // |area| of each outer, once (nested rings compare it often)
+  for (std::size_t j = 0; j < loops.size(); ++j)
+    if (!loops[j].hole) area[j] = CGAL::abs(loops[j].polygon.area());
   for (std::size_t i = 0; i < loops.size(); ++i) {
     const Point& p = loops[i].polygon[0];
     int outers_around = 0;
     int holes_around = 0;
     std::size_t innermost = loops.size();
-    for (std::size_t j = 0; j < loops.size(); ++j) {
-      if (j == i || !strictly_inside(p, loops[j].polygon)) continue;
+    for (const std::size_t j : around[i]) {
       if (loops[j].hole) {
         ++holes_around;
       } else {
         ++outers_around;
-        if (innermost == loops.size() ||
-            CGAL::abs(loops[j].polygon.area()) < CGAL::abs(loops[innermost].polygon.area()))
-          innermost = j;
+        if (innermost == loops.size() || area[j] < area[innermost]) innermost = j;
       }
     }
     const int depth = outers_around - holes_around;
@@ -303,6 +382,7 @@ bool boxes_overlap(const CGAL::Bbox_2& a, const CGAL::Bbox_2& b) {
 void validate_and_orient(Outline& outline) {
   struct BodyParts {
     std::vector<PolygonWithHoles> parts;
+    std::vector<CGAL::Bbox_2> box;  ///< of each part's outer boundary, computed once
     std::vector<const Loop*> outer_of_part;
   };
   std::vector<BodyParts> bodies;
@@ -324,6 +404,7 @@ void validate_and_orient(Outline& outline) {
     for (Loop& loop : body.holes) loops.push_back({&loop, prepare_loop(loop, true), true});
     BodyParts parts;
     parts.parts = assemble_body(body, loops);
+    for (const PolygonWithHoles& part : parts.parts) parts.box.push_back(part.outer_boundary().bbox());
     for (const BodyLoop& l : loops) {
       if (!l.hole) parts.outer_of_part.push_back(l.loop);
     }
@@ -338,7 +419,7 @@ void validate_and_orient(Outline& outline) {
         for (std::size_t j = 0; j < bodies[b].parts.size(); ++j) {
           const PolygonWithHoles& pa = bodies[a].parts[i];
           const PolygonWithHoles& pb = bodies[b].parts[j];
-          if (!boxes_overlap(pa.outer_boundary().bbox(), pb.outer_boundary().bbox())) continue;
+          if (!boxes_overlap(bodies[a].box[i], bodies[b].box[j])) continue;
           if (!CGAL::do_intersect(pa, pb)) continue;
           std::vector<PolygonWithHoles> overlap;
           CGAL::intersection(pa, pb, std::back_inserter(overlap));

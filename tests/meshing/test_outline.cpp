@@ -303,6 +303,42 @@ TEST(Outline, ValidateAllowsBodyInsideAnotherBodysHole) {
   EXPECT_EQ(validation_error(outline), "");
 }
 
+TEST(Outline, ValidateNestsThousandsOfLoopsByTheirRays) {
+  // Which loops contain which is found by rays through edge bands (was: a point-in-polygon
+  // test per pair of loops, minutes for 2,000 holes or 500 nested rings). A grid of square
+  // holes puts every ray exactly through the vertices of the holes in its row (the half-open
+  // rule must count them twice or not at all), and rings alternating outer and hole nest
+  // 300 deep.
+  std::vector<Loop> holes;
+  for (int a = 0; a < 45; ++a)
+    for (int b = 0; b < 45; ++b)
+      holes.push_back(make_loop({{2.0 * a + 1, 2.0 * b + 1}, {2.0 * a + 2, 2.0 * b + 1}, {2.0 * a + 2, 2.0 * b + 2},
+                                 {2.0 * a + 1, 2.0 * b + 2}},
+                                "hole " + std::to_string(a) + "," + std::to_string(b)));
+  Outline grid;
+  grid.bodies.push_back(make_body("grid", {make_loop({{0, 0}, {91, 0}, {91, 91}, {0, 91}}, "outer")}, holes));
+  EXPECT_EQ(validation_error(grid), "");
+  // One more hole around a whole row of them: those holes now lie in a hole.
+  Outline row = grid;
+  row.bodies[0].holes.push_back(make_loop({{0.5, 4.5}, {90.5, 4.5}, {90.5, 6.5}, {0.5, 6.5}}, "band"));
+  EXPECT_EQ(validation_error(row), "hole 0,2: hole lies inside another hole (its vertex (1, 5))");
+
+  std::vector<Loop> outers, rings;
+  for (int k = 0; k < 300; ++k) {
+    Loop ring = make_loop(regular_polygon({0, 0}, 100.0 - 0.3 * k, 64), "ring " + std::to_string(k));
+    (k % 2 == 0 ? outers : rings).push_back(std::move(ring));
+  }
+  Outline nested;
+  nested.bodies.push_back(make_body("rings", outers, rings));
+  EXPECT_EQ(validation_error(nested), "");
+  // Ring 151 an outer instead of a hole: it lies in outer ring 150 with nothing between.
+  Outline wrong = nested;
+  wrong.bodies[0].outers.insert(wrong.bodies[0].outers.begin(), wrong.bodies[0].holes[75]);
+  wrong.bodies[0].holes.erase(wrong.bodies[0].holes.begin() + 75);
+  EXPECT_EQ(validation_error(wrong).rfind("ring 151: outer boundary overlaps another outer boundary of body 'rings'", 0), 0U)
+      << validation_error(wrong);
+}
+
 TEST(Outline, ValidatesLargePolygonWithHoles) {
   // A 1,000-vertex star-shaped outer with 10 holes of 100 vertices.
   std::vector<Vec2> outer;
