@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cctype>
 #include <chrono>
 #include <cstdint>
@@ -55,6 +56,18 @@ struct MeshArgs {
 constexpr int kMaxThreads = 1024;
 
 /// `hexdem: error: MESSAGE` on one line (control characters of quoted input escaped).
+/// A count option's check: a whole number >= 1 (CLI::PositiveNumber's message printed its
+/// range up to the largest double, all 309 digits of it).
+const CLI::Validator kWholeNumberAtLeastOne(
+    [](std::string& value) -> std::string {
+      std::int64_t v = 0;
+      const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+      if (r.ec != std::errc() || r.ptr != value.data() + value.size() || v < 1)
+        return "must be a whole number >= 1 (got " + value + ")";
+      return {};
+    },
+    "INT>=1");
+
 void print_error(const char* kind, const std::string& message) {
   std::cerr << "hexdem: " << kind << ": " << meshing::one_line(message) << "\n";
 }
@@ -175,7 +188,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, kMaxThreads));
   mesh_cmd->add_option("--max-disks", mesh.max_disks,
                        "Refuse outlines estimated to need more disks (default 100000000)")
-      ->check(CLI::PositiveNumber);
+      ->check(kWholeNumberAtLeastOne);
   mesh_cmd->add_option("--compression-level", mesh.compression, "zlib level 0-9 for the .vtu")
       ->check(CLI::Range(0, 9));
   mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "Print nothing on success");
@@ -194,7 +207,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--max-disks", run.max_disks,
                       "Refuse outlines estimated to need more disks (default: [mesh] max_disks, "
                       "else 100000000)")
-      ->check(CLI::PositiveNumber);
+      ->check(kWholeNumberAtLeastOne);
   run_cmd->add_flag("-q,--quiet", run.quiet, "Print nothing but errors");
   run_cmd->add_option("--set", run.sets, "Override a case value: KEY=VALUE, e.g. time.end=2e-4 or material.1.E=32e9")
       ->allow_extra_args(false)
@@ -209,8 +222,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? hexdem::kExitOk : hexdem::kExitInputError;
+    // --help and --version print through CLI11; an error is one line, as every other input
+    // error (CLI11 would add "Run with --help for more information." on a second line).
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    print_error("error", e.what());
+    return hexdem::kExitInputError;
   }
 
   try {

@@ -454,9 +454,9 @@ Subcommand add_sweep_command(CLI::App& app) {
       "sweep", "Run a parameter study: the members of STUDY.toml as parallel `hexdem run`s, one CSV of final values");
   cmd->add_option("study", args->study, "Study file (.toml, see docs/studies.md)")->required();
   cmd->add_option("-o,--out", args->out, "Output folder (default: <study name>-study)");
-  cmd->add_option("--jobs", args->jobs, "Members run at the same time")->check(CLI::PositiveNumber);
+  cmd->add_option("--jobs", args->jobs, "Members run at the same time")->check(CLI::Range(1, 1 << 16));
   cmd->add_option("-j,--threads", args->threads, "OpenMP threads per member (default: cores / jobs)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1024));
   cmd->add_flag("--dry-run", args->dry_run,
                 "Write and print the members' command lines (one per line, for a job array) without running them");
   cmd->add_flag("--collect", args->collect,

@@ -96,6 +96,22 @@ TEST(HostileCli, ThreadCountIsBounded) {
   EXPECT_EQ(run_hexdem(dir, "mesh " + quote(outline) + " -j -3").code, 2);
 }
 
+TEST(HostileCli, CommandLineErrorsAreOneLine) {
+  // Was: two lines (the parser's "Run with --help for more information." after the error), and
+  // --max-disks 0 printed its range up to the largest double, all 309 digits of it.
+  const fs::path dir = work_dir();
+  const std::string c = quote(write(dir, "c.toml", plate_case("", "end = 1e-6")));
+  expect_input_error(run_hexdem(dir, "run " + c + " -j -1"), "--threads: Value -1 not in range 0 to 1024");
+  expect_input_error(run_hexdem(dir, "run " + c + " --max-disks 0"), "--max-disks: must be a whole number >= 1 (got 0)");
+  expect_input_error(run_hexdem(dir, "mesh " + c + " --max-disks -5"), "--max-disks: must be a whole number >= 1 (got -5)");
+  expect_input_error(run_hexdem(dir, "sweep " + c + " --jobs 0"), "--jobs: Value 0 not in range 1 to 65536");
+  expect_input_error(run_hexdem(dir, "run"), "case is required");
+  expect_input_error(run_hexdem(dir, "run " + c + " --no-such-option"), "--no-such-option");
+  const Result help = run_hexdem(dir, "run --help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("Usage"), std::string::npos) << help.out;
+}
+
 TEST(HostileCli, LatticeAnglesBeyondATurnAreRefusedNamingTheKey) {
   // Was: `--set mesh.angle=1e308` overflowed the radians and blamed the disk radius ("too
   // large for the region (-inf x -inf m)"), and `hexdem mesh --angle 1e300` meshed at
