@@ -194,11 +194,20 @@ private:
       xmin = std::min({xmin, e.a.x, e.b.x});
       xmax = std::max({xmax, e.a.x, e.b.x});
     }
-    // A region narrower than one disk in every lattice direction cannot hold a disk.
-    if (std::min(xmax - xmin, ymax - ymin) < d) {
+    // A region narrower than one disk in every lattice direction cannot hold a disk. Its size
+    // from the unperturbed edges: the perturbation (a fraction of d) swamps a region far
+    // smaller than d, which was then reported as "0 x 0 m".
+    double w_min = std::numeric_limits<double>::infinity(), w_max = -w_min, h_min = w_min, h_max = -w_min;
+    for (const Edge& e : edges_) {
+      w_min = std::min({w_min, e.a0.x, e.b0.x});
+      w_max = std::max({w_max, e.a0.x, e.b0.x});
+      h_min = std::min({h_min, e.a0.y, e.b0.y});
+      h_max = std::max({h_max, e.a0.y, e.b0.y});
+    }
+    if (std::min(xmax - xmin, ymax - ymin) < d || std::min(w_max - w_min, h_max - h_min) < d) {
       throw InputError(body_.where + ": disk radius " + fmt(f_.r) +
-                       " m is too large for the region (" + fmt(xmax - xmin) + " x " +
-                       fmt(ymax - ymin) + " m in the lattice frame)");
+                       " m is too large for the region (" + fmt(w_max - w_min) + " x " +
+                       fmt(h_max - h_min) + " m in the lattice frame)");
     }
     jmin_ = static_cast<std::int64_t>(std::floor((ymin - f_.hex_circumradius) / f_.h)) - 1;
     jmax_ = static_cast<std::int64_t>(std::ceil((ymax + f_.hex_circumradius) / f_.h)) + 1;

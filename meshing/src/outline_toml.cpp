@@ -192,7 +192,7 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
   if (const toml::node* n = table.get("material")) {
     const auto* id = n->as_integer();
     if (id == nullptr || id->get() < 0 || id->get() > INT_MAX)
-      fail(*n, path + ".material", "expected an integer >= 0 (got " + describe(*n) + ")");
+      fail(*n, path + ".material", "expected an integer from 0 to " + std::to_string(INT_MAX) + " (got " + describe(*n) + ")");
     body.material = static_cast<int>(id->get());
   }
 

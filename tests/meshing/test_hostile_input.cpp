@@ -68,6 +68,14 @@ TEST(HostileInput, TinyRadiusIsRefusedBeforeTheRowIndexOverflows) {
   EXPECT_NE(msg.find("limit 2^30"), std::string::npos) << msg;
 }
 
+TEST(HostileInput, HugeRadiusNamesTheRegionsSize) {
+  // Was: "too large for the region (0 x 0 m ...)": the region's size was taken after a
+  // perturbation of a fraction of the disk diameter, which swamped it.
+  const std::string msg = input_error(
+      [] { generate(rectangle_outline("radius = 1e300", "[0, 0]", "[0.02, 0.01]")); });
+  EXPECT_NE(msg.find("disk radius 1e+300 m is too large for the region (0.02 x 0.01 m"), std::string::npos) << msg;
+}
+
 TEST(HostileInput, HugeCoordinatesAreRefused) {
   // Was: a 3-disk mesh with region area inf and error -nan (from a DXF at 1e300).
   const std::string msg = input_error(

@@ -696,7 +696,14 @@ TEST(OutlineToml, RejectsWrongValueType) {
 name = "b"
 material = 1.5
 )"),
-            "case.toml:3: body[0].material: expected an integer >= 0 (got 1.5)");
+            "case.toml:3: body[0].material: expected an integer from 0 to 2147483647 (got 1.5)");
+  // An integer beyond the range is named as such (was: "expected an integer >= 0").
+  EXPECT_EQ(error_of(R"(
+[[body]]
+name = "b"
+material = 9223372036854775807
+)"),
+            "case.toml:3: body[0].material: expected an integer from 0 to 2147483647 (got 9223372036854775807)");
   EXPECT_EQ(error_of(R"(
 [[body]]
 name = "b"
