@@ -339,6 +339,31 @@ TEST(Outline, ValidateNestsThousandsOfLoopsByTheirRays) {
       << validation_error(wrong);
 }
 
+TEST(Outline, ValidateFindsBodiesInsideBodiesThatDoNotTouch) {
+  // The exact overlap test runs only on pairs of bodies whose edges meet or of which one lies
+  // in the other's region (was: every pair with overlapping boxes, minutes for nested islands).
+  Outline inside;
+  inside.bodies.push_back(make_body("a", {make_loop({{0, 0}, {10, 0}, {10, 10}, {0, 10}}, "a")}));
+  inside.bodies.push_back(make_body("b", {make_loop({{4, 4}, {6, 4}, {6, 6}, {4, 6}}, "b")}));
+  EXPECT_EQ(validation_error(inside).rfind("b: overlaps a (overlap area 4 m^2", 0), 0U) << validation_error(inside);
+  Outline around = inside;  // the larger one second
+  std::swap(around.bodies[0], around.bodies[1]);
+  EXPECT_EQ(validation_error(around).rfind("a: overlaps b (overlap area 4 m^2", 0), 0U) << validation_error(around);
+
+  // 60 rings, each a body of its own in the previous one's hole: no overlap.
+  Outline islands;
+  for (int k = 0; k < 60; ++k) {
+    const double r = 100.0 - 1.5 * k;
+    islands.bodies.push_back(make_body("ring " + std::to_string(k), {make_loop(regular_polygon({0, 0}, r, 48), "outer " + std::to_string(k))},
+                                       {make_loop(regular_polygon({0, 0}, r - 0.75, 48), "hole " + std::to_string(k))}));
+  }
+  EXPECT_EQ(validation_error(islands), "");
+  // A square in the material of ring 30 (between radii 54.25 and 55): it overlaps that ring only.
+  islands.bodies.push_back(make_body("chip", {make_loop({{54.4, -0.1}, {54.9, -0.1}, {54.9, 0.1}, {54.4, 0.1}}, "chip")}));
+  EXPECT_EQ(validation_error(islands).rfind("chip: overlaps outer 30 (overlap area 0.1 m^2", 0), 0U)
+      << validation_error(islands);
+}
+
 TEST(Outline, ValidatesLargePolygonWithHoles) {
   // A 1,000-vertex star-shaped outer with 10 holes of 100 vertices.
   std::vector<Vec2> outer;
