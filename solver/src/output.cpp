@@ -509,7 +509,9 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     if (!c.output.body_history.empty()) truncate_for_restart(bodies_path_, resume->bodies_bytes);
     if (!c.output.reactions.empty()) truncate_for_restart(reactions_path_, resume->reactions_bytes);
     pvd_ = resume->frames;
-    last_frame_ = resume->last_frame;
+    // The last frame in this folder (the checkpoint's own path names the folder it was
+    // written in, which may since have been copied or moved).
+    last_frame_ = pvd_.empty() ? std::string() : (fs::path(dir_) / pvd_.back().file).string();
     io::write_pvd(pvd_path_, pvd_);
   } else {
     fs::remove(pvd_path_, ec);

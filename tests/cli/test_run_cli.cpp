@@ -243,4 +243,21 @@ TEST(RunCli, BlowUpExitsFourAndKeepsTheLastGoodFrame) {
   EXPECT_NE(pvd.find("</VTKFile>"), std::string::npos);
 }
 
+TEST(RunCli, ARestartInACopiedFolderNamesItsOwnFrames) {
+  // Was: the restart's messages named the last frame by the path stored in the checkpoint,
+  // in the folder the checkpoint was written in (here deleted after the copy).
+  const fs::path d = work_dir();
+  const fs::path c = write(d, "copied.toml", plate_case("dt = 3e-7\nallow_unstable = true") + "checkpoint_interval = 5e-7\n");
+  fs::remove_all(d / "first");
+  fs::remove_all(d / "copy");
+  ASSERT_EQ(run(d, "run " + c.string() + " -q --out " + (d / "first").string()).code, 4);
+  ASSERT_TRUE(fs::exists(d / "first" / "plate.chk"));
+  fs::copy(d / "first", d / "copy", fs::copy_options::recursive);
+  fs::remove_all(d / "first");
+  const Result r = run(d, "run " + c.string() + " -q --restart " + (d / "copy" / "plate.chk").string());
+  EXPECT_EQ(r.code, 4) << r.err;
+  EXPECT_NE(r.err.find("last good frame: " + (d / "copy" / "plate" / "plate_000000000.vtu").string()), std::string::npos)
+      << r.err;
+}
+
 }  // namespace
