@@ -186,24 +186,22 @@ private:
     for (const Loop& l : body_.outers) add_loop(l);
     for (const Loop& l : body_.holes) add_loop(l);
 
+    // The region's extent, perturbed (the rows below) and unperturbed (w, h: its size, which
+    // the perturbation, a fraction of d, swamps for a region far smaller than d).
     double ymin = std::numeric_limits<double>::infinity(), ymax = -ymin;
     double xmin = ymin, xmax = -ymin;
+    double w_min = ymin, w_max = -ymin, h_min = ymin, h_max = -ymin;
     for (const Edge& e : edges_) {
       ymin = std::min({ymin, e.a.y, e.b.y});
       ymax = std::max({ymax, e.a.y, e.b.y});
       xmin = std::min({xmin, e.a.x, e.b.x});
       xmax = std::max({xmax, e.a.x, e.b.x});
-    }
-    // A region narrower than one disk in every lattice direction cannot hold a disk. Its size
-    // from the unperturbed edges: the perturbation (a fraction of d) swamps a region far
-    // smaller than d, which was then reported as "0 x 0 m".
-    double w_min = std::numeric_limits<double>::infinity(), w_max = -w_min, h_min = w_min, h_max = -w_min;
-    for (const Edge& e : edges_) {
       w_min = std::min({w_min, e.a0.x, e.b0.x});
       w_max = std::max({w_max, e.a0.x, e.b0.x});
       h_min = std::min({h_min, e.a0.y, e.b0.y});
       h_max = std::max({h_max, e.a0.y, e.b0.y});
     }
+    // A region narrower than one disk in every lattice direction cannot hold a disk.
     if (std::min(xmax - xmin, ymax - ymin) < d || std::min(w_max - w_min, h_max - h_min) < d) {
       throw InputError(body_.where + ": disk radius " + fmt(f_.r) +
                        " m is too large for the region (" + fmt(w_max - w_min) + " x " +

@@ -125,10 +125,9 @@ Point common_point(const Segment& a, const Segment& b) {
 /// edges may share their common vertex; otherwise only pairs from different loops are
 /// examined and any common point is a contact. Candidate pairs come from a box-intersection
 /// search on the edges' bounding boxes, so the search is fast unless many edges overlap.
-std::optional<Contact> find_contact(const std::vector<const Polygon*>& loops,
-                                    bool within_loops) {
-  std::vector<EdgeRef> refs;
-  std::vector<EdgeBox> boxes;
+/// The bounding box of every edge of `loops`, each with its index in `refs` (loop, edge): the
+/// input of a box-intersection search over the edges.
+void edge_boxes(const std::vector<const Polygon*>& loops, std::vector<EdgeRef>& refs, std::vector<EdgeBox>& boxes) {
   for (std::size_t l = 0; l < loops.size(); ++l) {
     const Polygon& polygon = *loops[l];
     for (std::size_t k = 0; k < polygon.size(); ++k) {
@@ -136,6 +135,13 @@ std::optional<Contact> find_contact(const std::vector<const Polygon*>& loops,
       refs.push_back({l, k});
     }
   }
+}
+
+std::optional<Contact> find_contact(const std::vector<const Polygon*>& loops,
+                                    bool within_loops) {
+  std::vector<EdgeRef> refs;
+  std::vector<EdgeBox> boxes;
+  edge_boxes(loops, refs, boxes);
 
   std::optional<std::tuple<std::size_t, std::size_t, std::size_t, std::size_t>> best;
   const auto examine = [&](const EdgeBox& box_a, const EdgeBox& box_b) {
@@ -374,6 +380,49 @@ double total_area(const std::vector<PolygonWithHoles>& parts) {
   return area;
 }
 
+/// The pairs of bodies (a < b; each body a list of parts) that may overlap: those whose edges
+/// meet (a box search over every edge), and those whose boundaries are apart but one lies in
+/// the other's region (a loop of one is then wholly inside the other's region or wholly
+/// outside it, so one vertex per loop decides, by the rays of containing_loops). Testing every
+/// pair whose boxes overlap took minutes on hundreds of nested islands.
+std::set<std::pair<std::size_t, std::size_t>> bodies_that_may_overlap(
+    const std::vector<std::vector<const PolygonWithHoles*>>& parts_of) {
+  std::vector<BodyLoop> all;
+  std::vector<std::size_t> body_of;
+  for (std::size_t a = 0; a < parts_of.size(); ++a)
+    for (const PolygonWithHoles* part : parts_of[a]) {
+      all.push_back({nullptr, part->outer_boundary(), false});
+      body_of.push_back(a);
+      for (auto h = part->holes_begin(); h != part->holes_end(); ++h) {
+        all.push_back({nullptr, *h, true});
+        body_of.push_back(a);
+      }
+    }
+  std::set<std::pair<std::size_t, std::size_t>> suspect;
+  const auto add = [&](std::size_t a, std::size_t b) { suspect.insert({std::min(a, b), std::max(a, b)}); };
+  std::vector<const Polygon*> polygons;
+  for (const BodyLoop& l : all) polygons.push_back(&l.polygon);
+  std::vector<EdgeRef> refs;
+  std::vector<EdgeBox> boxes;
+  edge_boxes(polygons, refs, boxes);
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const EdgeBox& x, const EdgeBox& y) {
+    const EdgeRef& ex = refs[x.info()];
+    const EdgeRef& ey = refs[y.info()];
+    const std::size_t ba = body_of[ex.loop], bb = body_of[ey.loop];
+    if (ba == bb || suspect.count({std::min(ba, bb), std::max(ba, bb)}) != 0) return;
+    if (CGAL::do_intersect(polygons[ex.loop]->edge(ex.edge), polygons[ey.loop]->edge(ey.edge))) add(ba, bb);
+  });
+  const std::vector<std::vector<std::size_t>> around = containing_loops(all);
+  std::vector<int> depth(parts_of.size(), 0);  // region of each body at the vertex: 1 inside
+  for (std::size_t l = 0; l < all.size(); ++l) {
+    for (const std::size_t j : around[l]) depth[body_of[j]] += all[j].hole ? -1 : 1;
+    for (const std::size_t j : around[l])
+      if (depth[body_of[j]] > 0 && body_of[j] != body_of[l]) add(body_of[j], body_of[l]);
+    for (const std::size_t j : around[l]) depth[body_of[j]] = 0;
+  }
+  return suspect;
+}
+
 bool boxes_overlap(const CGAL::Bbox_2& a, const CGAL::Bbox_2& b) {
   return a.xmin() < b.xmax() && b.xmin() < a.xmax() && a.ymin() < b.ymax() && b.ymin() < a.ymax();
 }
@@ -414,53 +463,11 @@ void validate_and_orient(Outline& outline) {
 
   // Bodies may touch (share boundary) but must not overlap: the regularized intersection
   // of any two must have zero area. The exact test (a Boolean operation per pair of parts)
-  // is run only on the pairs that can overlap: those whose edges meet (found by a box search
-  // over every edge), and those whose boundaries are apart but one lies in the other (a loop
-  // of one is either wholly inside the other's region or wholly outside it, so one vertex per
-  // loop decides, by the rays of containing_loops). Testing every pair whose boxes overlap
-  // took minutes on hundreds of nested islands.
-  std::vector<BodyLoop> all;
-  std::vector<std::size_t> body_of;
+  // runs only on the pairs that can overlap (bodies_that_may_overlap).
+  std::vector<std::vector<const PolygonWithHoles*>> parts_of(bodies.size());
   for (std::size_t a = 0; a < bodies.size(); ++a)
-    for (const PolygonWithHoles& part : bodies[a].parts) {
-      all.push_back({nullptr, part.outer_boundary(), false});
-      body_of.push_back(a);
-      for (auto h = part.holes_begin(); h != part.holes_end(); ++h) {
-        all.push_back({nullptr, *h, true});
-        body_of.push_back(a);
-      }
-    }
-  std::set<std::pair<std::size_t, std::size_t>> suspect;  // (a, b), a < b
-  {
-    std::vector<EdgeRef> refs;
-    std::vector<EdgeBox> boxes;
-    for (std::size_t l = 0; l < all.size(); ++l)
-      for (std::size_t k = 0; k < all[l].polygon.size(); ++k) {
-        boxes.emplace_back(all[l].polygon.edge(k).bbox(), refs.size());
-        refs.push_back({l, k});
-      }
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const EdgeBox& x, const EdgeBox& y) {
-      const EdgeRef& ex = refs[x.info()];
-      const EdgeRef& ey = refs[y.info()];
-      const std::size_t ba = body_of[ex.loop], bb = body_of[ey.loop];
-      if (ba == bb || suspect.count({std::min(ba, bb), std::max(ba, bb)}) != 0) return;
-      if (CGAL::do_intersect(all[ex.loop].polygon.edge(ex.edge), all[ey.loop].polygon.edge(ey.edge)))
-        suspect.insert({std::min(ba, bb), std::max(ba, bb)});
-    });
-  }
-  {
-    const std::vector<std::vector<std::size_t>> around = containing_loops(all);
-    std::vector<int> depth(bodies.size(), 0);
-    for (std::size_t l = 0; l < all.size(); ++l) {
-      for (const std::size_t j : around[l]) depth[body_of[j]] += all[j].hole ? -1 : 1;
-      for (const std::size_t j : around[l]) {
-        const std::size_t a = body_of[j], b = body_of[l];
-        if (depth[a] > 0 && a != b) suspect.insert({std::min(a, b), std::max(a, b)});
-      }
-      for (const std::size_t j : around[l]) depth[body_of[j]] = 0;
-    }
-  }
-  for (const auto& [a, b] : suspect) {
+    for (const PolygonWithHoles& part : bodies[a].parts) parts_of[a].push_back(&part);
+  for (const auto& [a, b] : bodies_that_may_overlap(parts_of)) {
     for (std::size_t i = 0; i < bodies[a].parts.size(); ++i) {
       for (std::size_t j = 0; j < bodies[b].parts.size(); ++j) {
         const PolygonWithHoles& pa = bodies[a].parts[i];

@@ -786,6 +786,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   const double* __restrict kn_of = per_kind ? m.kind_k_n.data() : m.k_n.data();
   const double* __restrict ks_of = per_kind ? m.kind_k_s.data() : m.k_s.data();
   const std::uint8_t* __restrict kind = m.spring_kind.data();
+  const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
@@ -805,7 +806,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
     if constexpr (Rotation) {
       du_s = rotation_shear_increment(dt, vx, vy, om, m.radius.data(), i, j, nx, ny);
     } else {
-      const double u_s = local_shear(m, static_cast<std::size_t>(b));
+      const double u_s = local_shear_of(static_cast<std::size_t>(b), i, j);
       du_s = u_s - m.u_s[b];
       m.u_s[b] = u_s;
     }
