@@ -92,11 +92,15 @@ void visit_model(M& m, V& v) {
   v.state("bi", m.bi); v.state("bj", m.bj);
   v.state("rest_length", m.rest_length);
   v.state("g_xx", m.g_xx); v.state("g_yy", m.g_yy); v.state("g_xy", m.g_xy);
+  v.rebuilt("kind_ax", m.kind_ax); v.rebuilt("kind_ay", m.kind_ay);  // per kind: from the lattice
+  v.rebuilt("kind_rest", m.kind_rest);
+  v.rebuilt("kind_g_xx", m.kind_g_xx); v.rebuilt("kind_g_yy", m.kind_g_yy); v.rebuilt("kind_g_xy", m.kind_g_xy);
   v.state("k_n", m.k_n); v.state("k_s", m.k_s);
   v.rebuilt("spring_kind", m.spring_kind);  // per-kind stiffnesses: from the lattice and materials
   v.rebuilt("kind_k_n", m.kind_k_n); v.rebuilt("kind_k_s", m.kind_k_s);
   v.state("f_n", m.f_n); v.state("f_s", m.f_s);
-  v.state("nx", m.nx); v.state("ny", m.ny);
+  v.state("nx", m.nx); v.state("ny", m.ny);  // empty in an elastic lattice
+  v.rebuilt("pair_fx", m.pair_fx); v.rebuilt("pair_fy", m.pair_fy);  // from the positions, every force pass
   v.state("u_s", m.u_s);
   v.state("state", m.state);
   v.state("bond_class", m.bond_class);
@@ -918,7 +922,7 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
   CheckpointAccess::check_restored(s, built, run, Check(path));
   // Every per-disk and per-bond vector must match the lattice the case meshes to.
   const Model& m = s.model();
-  if (m.ux.size() != m.num_disks() || m.f_n.size() != m.num_bonds() || m.x0.size() != s.model().num_disks())
+  if (m.ux.size() != m.num_disks() || m.f_s.size() != m.num_bonds() || m.x0.size() != s.model().num_disks())
     r.fail("disk or bond counts differ from the lattice");
   CheckpointAccess::rebuild_broad_phase(s, path);
 }

@@ -61,16 +61,22 @@ struct LocalShearView {
   const double* __restrict exx;
   const double* __restrict eyy;
   const double* __restrict exy;
-  const double* __restrict g_xx;
+  const std::uint8_t* __restrict kind;  ///< Model::spring_kind where g is per kind, else null
+  const double* __restrict g_xx;        ///< Model::g_xx or kind_g_xx
   const double* __restrict g_yy;
   const double* __restrict g_xy;
   explicit LocalShearView(const Model& m)
       : ok(m.strain.ok.data()), exx(m.strain.eps_xx.data()), eyy(m.strain.eps_yy.data()), exy(m.strain.eps_xy.data()),
-        g_xx(m.g_xx.data()), g_yy(m.g_yy.data()), g_xy(m.g_xy.data()) {}
+        kind(m.kind_g_xx.empty() ? nullptr : m.spring_kind.data()),
+        g_xx(kind ? m.kind_g_xx.data() : m.g_xx.data()), g_yy(kind ? m.kind_g_yy.data() : m.g_yy.data()),
+        g_xy(kind ? m.kind_g_xy.data() : m.g_xy.data()) {}
+  /// Where bond b's g is: its kind or b.
+  [[nodiscard]] std::size_t g_index(std::size_t b) const { return kind ? kind[b] : b; }
   /// u_s [m] of bond b between disks i and j; a lone disk's bond has the normal spring only.
   [[nodiscard]] double operator()(std::size_t b, std::size_t i, std::size_t j) const {
     if (!ok[i] || !ok[j]) return 0.0;
-    return g_xx[b] * (exx[i] + exx[j]) + g_yy[b] * (eyy[i] + eyy[j]) + 2.0 * g_xy[b] * (exy[i] + exy[j]);
+    const std::size_t g = g_index(b);
+    return g_xx[g] * (exx[i] + exx[j]) + g_yy[g] * (eyy[i] + eyy[j]) + 2.0 * g_xy[g] * (exy[i] + exy[j]);
   }
 };
 
@@ -467,13 +473,28 @@ inline double closed_crack_stiffness(const Model& m, std::size_t b) {
 constexpr std::uint8_t kTensionCrack = 1;
 constexpr std::uint8_t kShearCrack = 2;
 
+/// Current length and unit vector of the bond from disk i to disk j: its reference vector
+/// a (Model::ref_ax, ref_ay) plus the relative displacement (no cancellation of the positions).
+struct BondGeometry {
+  double len, nx, ny;
+};
+inline BondGeometry bond_geometry(double ax, double ay, const double* __restrict ux, const double* __restrict uy,
+                                  std::size_t i, std::size_t j) {
+  const double dx = ax + (ux[j] - ux[i]);
+  const double dy = ay + (uy[j] - uy[i]);
+  const double len = std::sqrt(dx * dx + dy * dy);
+  // Both components in one packed division (Pair): the divider bounds the bond pass.
+  const Pair n = Pair{dx, dy} / Pair{len, len};
+  return {len, n[0], n[1]};
+}
+
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
 double intact_bond_energy(const Model& m, std::size_t b) {
   if (!m.cracks.damage.empty() && m.cracks.cracking[b]) {
     // A cracking bond: (1 - D) on both springs, the normal one while open; closed, the
     // normal spring of closed_crack_stiffness.
-    const double D = m.cracks.damage[b], g = 1 - D, delta = m.len_prev[b] - m.rest_length[b];
+    const double D = m.cracks.damage[b], g = 1 - D, delta = m.len_prev[b] - m.rest(b);
     const double us = m.u_s[b];
     // A shear crack: the damaged part of its shear spring is the friction of its faces,
     // D k_s (u_s - slip) (docs/model.md, "Shear cracks that soften").
@@ -481,7 +502,8 @@ double intact_bond_energy(const Model& m, std::size_t b) {
     return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b) * delta * delta) +
            g * 0.5 * m.ks(b) * us * us + D * 0.5 * m.ks(b) * fr * fr;
   }
-  double e = m.kn(b) != 0 ? 0.5 * m.f_n[b] * m.f_n[b] / m.kn(b) : 0.0;
+  const double f_n = m.elastic_lattice() ? bond_force(m, b).f_n : m.f_n[b];
+  double e = m.kn(b) != 0 ? 0.5 * f_n * f_n / m.kn(b) : 0.0;
   if (m.ks(b) != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
   if (m.yields(b)) {
     const double hn = m.kn(b) * m.bond_plastic.kh_n[b] / (m.kn(b) - m.bond_plastic.kh_n[b]);
@@ -586,7 +608,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
   const auto l = static_cast<std::size_t>(m.bond_failure_law(b));
   const SofteningParams& sp = m.softening[l];
-  const double delta = len - m.rest_length[b];
+  const double delta = len - m.rest(b);
   const double us = m.u_s[b];
   if (m.cracks.cracking[b] == kShearCrack) {
     // A shear crack (docs/model.md, "Shear cracks that soften"): the springs soften with D,
@@ -671,7 +693,7 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   bool rf_known = false;
   const auto rate_factors = [&]() -> const laws::RateFactors& {
     if (!rf_known) {
-      const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+      const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest(b)) : 0.0;
       if (edot > 1.0) rf = law.rate_factors(edot);
       rf_known = true;
     }
@@ -744,22 +766,6 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   if (mode != 0) m.newly_broken[b] = static_cast<std::uint8_t>(1 + mode);
 }
 
-/// Current length and unit vector of the bond from disk i to disk j: the reference vector
-/// plus the relative displacement (no cancellation of the positions).
-struct BondGeometry {
-  double len, nx, ny;
-};
-inline BondGeometry bond_geometry(const double* __restrict x0, const double* __restrict y0,
-                                  const double* __restrict ux, const double* __restrict uy, std::size_t i,
-                                  std::size_t j) {
-  const double dx = (x0[j] - x0[i]) + (ux[j] - ux[i]);
-  const double dy = (y0[j] - y0[i]) + (uy[j] - uy[i]);
-  const double len = std::sqrt(dx * dx + dy * dy);
-  // Both components in one packed division (Pair): the divider bounds the bond pass.
-  const Pair n = Pair{dx, dy} / Pair{len, len};
-  return {len, n[0], n[1]};
-}
-
 /// Eq. 2, rotation model: the shear displacement over the last step, dt [(v_j - v_i).s -
 /// (r_i omega_i + r_j omega_j)] with s = (-n_y, n_x) [m].
 inline double rotation_shear_increment(double dt, const double* __restrict vx, const double* __restrict vy,
@@ -791,7 +797,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-    const auto [len, nx, ny] = bond_geometry(m.x0.data(), m.y0.data(), m.ux.data(), m.uy.data(), i, j);
+    const auto [len, nx, ny] = bond_geometry(m.ref_ax(static_cast<std::size_t>(b)), m.ref_ay(static_cast<std::size_t>(b)), m.ux.data(), m.uy.data(), i, j);
     m.nx[b] = nx;
     m.ny[b] = ny;
     if constexpr (Breakable) {
@@ -843,7 +849,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
       if (m.bond_plastic.alpha_n[b] != 0.0 || m.bond_plastic.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
     } else {
       // Eq. 2 (normal spring on the current length, objective) and the shear spring.
-      m.f_n[b] = kn_of[kb] * (len - m.rest_length[b]);
+      m.f_n[b] = kn_of[kb] * (len - m.rest(b));
       if constexpr (Rotation) {
         m.f_s[b] += ks_of[kb] * du_s;
       } else {
@@ -867,7 +873,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
         const double sec = m.bond_section(b) * m.strength_factor(static_cast<std::size_t>(b));
         laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec));
         if (mode != laws::FailureMode::None) {  // the strain rate (a division) only then
-          const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest_length[b]) : 0.0;
+          const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest(b)) : 0.0;
           if (edot > 1.0) {
             const laws::RateFactors rf = m.failure_laws[l].rate_factors(edot);
             mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, rf, sec));
@@ -900,25 +906,41 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   const double* __restrict ux = m.ux.data();
   const double* __restrict uy = m.uy.data();
   const double* __restrict radius = m.radius.data();
+  // The reference geometry per kind (a regular lattice's; implies PerKind) or per bond.
+  const bool geometry_per_kind = !m.kind_rest.empty();
+  const double* __restrict kind_ax = m.kind_ax.data();
+  const double* __restrict kind_ay = m.kind_ay.data();
+  const double* __restrict kind_rest = m.kind_rest.data();
   const double* __restrict rest = m.rest_length.data();
-  double* __restrict f_n = m.f_n.data();
   double* __restrict f_s = m.f_s.data();
-  double* __restrict bnx = m.nx.data();
-  double* __restrict bny = m.ny.data();
+  double* __restrict pair_fx = m.pair_fx.data();
+  double* __restrict pair_fy = m.pair_fy.data();
   const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
     const auto i = static_cast<std::size_t>(bi[b]), j = static_cast<std::size_t>(bj[b]);
-    const auto [len, nx, ny] = bond_geometry(x0, y0, ux, uy, i, j);
-    bnx[b] = nx;
-    bny[b] = ny;
-    f_n[b] = kn[kb] * (len - rest[b]);
+    double ax, ay, rest_b;
+    if (geometry_per_kind) {
+      const std::size_t k = kind[b];
+      ax = kind_ax[k], ay = kind_ay[k], rest_b = kind_rest[k];
+    } else {
+      ax = x0[j] - x0[i], ay = y0[j] - y0[i], rest_b = rest[b];
+    }
+    const auto [len, nx, ny] = bond_geometry(ax, ay, ux, uy, i, j);
+    const double f_n = kn[kb] * (len - rest_b);
+    // The pair force on bi (Eq. 3), for the gather: f_n n, and in the rotation model + f_s s.
+    double f_x = f_n * nx, f_y = f_n * ny;
     if constexpr (Rotation) {
-      f_s[b] += ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
+      const double fs = f_s[b] + ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
+      f_s[b] = fs;
+      f_x -= fs * ny;
+      f_y += fs * nx;
     } else {
       f_s[b] = ks[kb] * local_shear_of(static_cast<std::size_t>(b), i, j);  // u_s is not kept (Model::u_s)
     }
+    pair_fx[b] = f_x;
+    pair_fy[b] = f_y;
   }
 }
 
@@ -960,9 +982,7 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
   const std::int32_t* __restrict adj_offset = m.adj_offset.data();
   const AdjacencyView a(m);
   const double* __restrict f_s = m.f_s.data();
-  const double* __restrict g_xx = m.g_xx.data();
-  const double* __restrict g_yy = m.g_yy.data();
-  const double* __restrict g_xy = m.g_xy.data();
+  const LocalShearView g(m);  // its g, per bond or per kind
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     double sxx = 0, syy = 0, sxy = 0;
@@ -971,9 +991,10 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
         const std::size_t b = a.bond(k);
         if (a.state[b] > 1) continue;  // !Model::bond_intact
         const double fs = f_s[b];
-        sxx += fs * g_xx[b];
-        syy += fs * g_yy[b];
-        sxy += fs * g_xy[b];
+        const std::size_t gb = g.g_index(b);
+        sxx += fs * g.g_xx[gb];
+        syy += fs * g.g_yy[gb];
+        sxy += fs * g.g_xy[gb];
       }
     }
     if (hoop) {
@@ -1000,8 +1021,9 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
 /// f_n n + f_s s (rotation model; local strain: f_n n only), the moment on both ends +r f_s.
 /// Local-strain and hoop terms: F_i = sum_k (W_i + W_k) a_ik, the gradient of the energy
 /// through the strains of i and of its neighbours ("stress divergence"); hoop: -A sigma_tt.
-template <bool PairShear, bool StrainTerms, bool Hoop, bool Breakable, bool Mirror, bool J2>
+template <bool PairShear, bool StrainTerms, bool Hoop, bool Breakable, bool Mirror, bool J2, bool Elastic>
 void gather_forces(Model& m) {
+  static_assert(!(Elastic && (Breakable || J2)), "an elastic lattice has neither failure nor J2 disks");
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
   // Raw arrays: the loop writes only fx, fy, torque, which nothing in it reads. The disk's
   // own values are read once, outside its bonds' loop (the same arithmetic: the compiler
@@ -1016,6 +1038,8 @@ void gather_forces(Model& m) {
   const double* __restrict bny = m.ny.data();
   const double* __restrict f_n = m.f_n.data();
   const double* __restrict f_s = m.f_s.data();
+  const double* __restrict pair_fx = m.pair_fx.data();
+  const double* __restrict pair_fy = m.pair_fy.data();
   const double* __restrict radius = m.radius.data();
   double* __restrict out_fx = m.fx.data();
   double* __restrict out_fy = m.fy.data();
@@ -1036,8 +1060,14 @@ void gather_forces(Model& m) {
       // Model::adj_bond and adj_sign: the entry is b where i is the bond's bi, ~b where bj.
       const std::size_t b = a.bond(k);
       const double s = a.entry[k] >= 0 ? 1.0 : -1.0;
-      const double nx = bnx[b], ny = bny[b];
-      double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
+      if constexpr (Elastic) {
+        // The bond pass's pair force (f_n n, + f_s s in the rotation model) and its moment.
+        fx += s * pair_fx[b];
+        fy += s * pair_fy[b];
+        if constexpr (PairShear) tq += r_i * f_s[b];
+      }
+      const double nx = Elastic ? 0.0 : bnx[b], ny = Elastic ? 0.0 : bny[b];
+      double f_x = Elastic ? 0.0 : f_n[b] * nx, f_y = Elastic ? 0.0 : f_n[b] * ny;
       if constexpr (Breakable) {
         if (a.state[b] > 1) {  // !Model::bond_intact
           // A broken bond in contact: pair force with friction and its moment.
@@ -1049,13 +1079,15 @@ void gather_forces(Model& m) {
           continue;
         }
       }
-      if constexpr (PairShear) {
-        f_x -= f_s[b] * ny;
-        f_y += f_s[b] * nx;
-        tq += r_i * f_s[b];
+      if constexpr (!Elastic) {
+        if constexpr (PairShear) {
+          f_x -= f_s[b] * ny;
+          f_y += f_s[b] * nx;
+          tq += r_i * f_s[b];
+        }
+        fx += s * f_x;
+        fy += s * f_y;
       }
-      fx += s * f_x;
-      fy += s * f_y;
       if constexpr (StrainTerms) {
         if (a.in_fit(b)) {
           // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
@@ -1090,7 +1122,10 @@ void gather_forces(Model& m) {
 using GatherKernel = void (*)(Model&);
 template <std::size_t K>
 void gather_forces_of(Model& m) {
-  gather_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, (K & 8) != 0, (K & 16) != 0, (K & 32) != 0>(m);
+  constexpr bool elastic = (K & 64) != 0, breakable = (K & 8) != 0, j2 = (K & 32) != 0;
+  if constexpr (!(elastic && (breakable || j2))) {  // never dispatched: no code for it
+    gather_forces<(K & 1) != 0, (K & 2) != 0, (K & 4) != 0, breakable, (K & 16) != 0, j2, elastic>(m);
+  }
 }
 template <std::size_t... K>
 constexpr std::array<GatherKernel, sizeof...(K)> gather_kernels(std::index_sequence<K...>) {
@@ -1098,9 +1133,10 @@ constexpr std::array<GatherKernel, sizeof...(K)> gather_kernels(std::index_seque
 }
 
 void gather_forces(Model& m, bool pair_shear, bool strain_terms, bool hoop) {
-  static constexpr std::array<GatherKernel, 64> kernels = gather_kernels(std::make_index_sequence<64>{});
+  static constexpr std::array<GatherKernel, 128> kernels = gather_kernels(std::make_index_sequence<128>{});
   const std::size_t k = (pair_shear ? 1U : 0U) | (strain_terms ? 2U : 0U) | (hoop ? 4U : 0U) |
-                        (m.any_breakable ? 8U : 0U) | (m.has_mirror_springs() ? 16U : 0U) | (m.any_j2 ? 32U : 0U);
+                        (m.any_breakable ? 8U : 0U) | (m.has_mirror_springs() ? 16U : 0U) | (m.any_j2 ? 32U : 0U) |
+                        (m.elastic_lattice() ? 64U : 0U);
   kernels[k](m);
 }
 
@@ -1138,6 +1174,14 @@ void compute_probe_forces(Model& m) {
   // The probe is the linear operator: no bond breaks in it (it is far below any strength,
   // and a break would not be linear).
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
+}
+
+BondForce bond_force(const Model& m, std::size_t b) {
+  if (!m.elastic_lattice()) return {m.f_n[b], m.f_s[b], m.nx[b], m.ny[b]};
+  // elastic_bond_forces' arithmetic at the positions of the last force pass.
+  const auto [len, nx, ny] = bond_geometry(m.ref_ax(b), m.ref_ay(b), m.ux.data(), m.uy.data(),
+                                           static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b]));
+  return {m.kn(b) * (len - m.rest(b)), m.f_s[b], nx, ny};
 }
 
 double elastic_energy(const Model& m) {
@@ -1217,7 +1261,9 @@ HalfStep own_half_step(const Model& m, std::size_t b, double dt, bool local) {
     d_us = dt * (-dvx * m.ny[b] + dvy * m.nx[b] - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
   } else if (m.strain.ok[i] && m.strain.ok[j]) {
     const std::array<double, 3> ri = fit_gradient(m, i, m.vx, m.vy), rj = fit_gradient(m, j, m.vx, m.vy);
-    d_us = dt * (m.g_xx[b] * (ri[0] + rj[0]) + m.g_yy[b] * (ri[1] + rj[1]) + 2.0 * m.g_xy[b] * (ri[2] + rj[2]));
+    const LocalShearView g(m);
+    const std::size_t gb = g.g_index(b);
+    d_us = dt * (g.g_xx[gb] * (ri[0] + rj[0]) + g.g_yy[gb] * (ri[1] + rj[1]) + 2.0 * g.g_xy[gb] * (ri[2] + rj[2]));
   }
   return {0.5 * (m.f_n[b] * d_delta + m.f_s[b] * d_us), d_delta};
 }
@@ -1422,9 +1468,10 @@ Stress disk_stress(const Model& m, std::size_t i) {
   double sxx = 0, syy = 0, sxy = 0;
   for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
     const auto b = m.adj_bond(k);
-    if (m.f_n[b] == 0.0 && m.f_s[b] == 0.0) continue;
-    const double nx = m.nx[b], ny = m.ny[b], sx = -ny, sy = nx;
-    const double fn = m.f_n[b], fs = m.f_s[b];
+    const BondForce f = bond_force(m, b);
+    if (f.f_n == 0.0 && f.f_s == 0.0) continue;
+    const double nx = f.nx, ny = f.ny, sx = -ny, sy = nx;
+    const double fn = f.f_n, fs = f.f_s;
     sxx += fn * nx * nx + fs * nx * sx;
     syy += fn * ny * ny + fs * ny * sy;
     sxy += fn * nx * ny + fs * 0.5 * (nx * sy + ny * sx);

@@ -13,6 +13,17 @@
 namespace hexdem::solver {
 namespace {
 
+/// A bond's reference geometry from its reference vector a and its length |a|: the unit
+/// vector n0 and g = (|a|/2) sym(s0 (x) n0), s0 = (-n0_y, n0_x) (physics.md section 4).
+struct BondReference {
+  double rest, g_xx, g_yy, g_xy;
+};
+BondReference bond_reference(double ax, double ay, double rest) {
+  const double nx = ax / rest, ny = ay / rest;
+  const double sx = -ny, sy = nx, half = 0.5 * rest;
+  return {rest, half * sx * nx, half * sy * ny, half * 0.5 * (sx * ny + sy * nx)};
+}
+
 /// The model from the lattice's other arrays, with its disk and bond arrays already in m (the
 /// centres, radii, cell areas, kinds, bodies, materials, bond ends and classes: copied or taken).
 Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thickness, ShearModel shear_model,
@@ -96,12 +107,10 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   // Bonds: Eqs. 12-14 per unit thickness, times the thickness or, in axisymmetric mode, the
   // bond midpoint's distance from the axis (Eq. 15).
   const std::size_t nb = m.bi.size();
-  for (auto* v : {&m.rest_length, &m.f_n, &m.f_s, &m.nx, &m.ny}) {
-    v->assign(nb, 0.0);
-  }
-  // Spring stiffnesses once per kind (body, bond class, edge) where w is uniform (plane
+  m.f_s.assign(nb, 0.0);
+  // Spring stiffnesses once per kind (body, bond direction, edge) where w is uniform (plane
   // geometries, and at most 256 kinds); per bond where it is the ring radius.
-  const std::size_t kinds = 4 * materials.size();
+  const std::size_t kinds = 12 * materials.size();
   const bool per_kind = !axisym && kinds <= 256;
   if (per_kind) {
     m.spring_kind.assign(nb, 0);
@@ -168,8 +177,56 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     for (auto* v : {&m.strain.minv_xx, &m.strain.minv_xy, &m.strain.minv_yy, &m.strain.eps_xx, &m.strain.eps_yy, &m.strain.eps_xy, &m.strain.w_xx, &m.strain.w_xy, &m.strain.w_yx,
                     &m.strain.w_yy})
       v->assign(n, 0.0);
-    for (auto* v : {&m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
     if (axisym) m.strain.eps_tt.assign(n, 0.0);
+  }
+  // The spring kinds, 12 body + 4 direction + 2 sense + edge (direction 0 along the lattice
+  // axis, 1 and 2 the other two; sense 0 along the first bond of the direction), and the
+  // reference geometry once per kind if every bond's a = x0_j - x0_i is its kind's to 1e-12 |a|
+  // (a regular plane lattice), else per bond (Model::rest_length).
+  if (per_kind) {
+    std::vector<double>* tables[] = {&m.kind_ax, &m.kind_ay, &m.kind_rest, &m.kind_g_xx, &m.kind_g_yy, &m.kind_g_xy};
+    for (auto* v : tables) v->assign(kinds, 0.0);
+    std::vector<std::uint8_t> seen(kinds, 0);
+    bool regular = true;
+    double dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};  // the first bond's direction of each
+    for (std::size_t b = 0; b < nb; ++b) {
+      const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+      const double ax = m.x0[j] - m.x0[i], ay = m.y0[j] - m.y0[i];
+      const double len = std::hypot(ax, ay), nx = ax / len, ny = ay / len;
+      int direction = 0;
+      if (m.bond_class[b] != 1) {
+        if (dx[1] == 0 && dy[1] == 0) dx[1] = nx, dy[1] = ny;
+        direction = std::abs(nx * dy[1] - ny * dx[1]) < 0.5 ? 1 : 2;  // 0 or 60 degrees from the first
+      }
+      if (dx[direction] == 0 && dy[direction] == 0) dx[direction] = nx, dy[direction] = ny;
+      const int sense = nx * dx[direction] + ny * dy[direction] > 0 ? 0 : 1;
+      const auto kind = static_cast<std::size_t>(12 * m.body[i] + 4 * direction + 2 * sense + (lat.bond_on_edge[b] ? 1 : 0));
+      m.spring_kind[b] = static_cast<std::uint8_t>(kind);
+      if (!regular) continue;
+      if (!seen[kind]) {
+        seen[kind] = 1;
+        // The kind's first bond's a; |a| by the bond pass's arithmetic (bond_geometry at rest).
+        const BondReference r = bond_reference(ax, ay, std::sqrt(ax * ax + ay * ay));
+        m.kind_ax[kind] = ax;
+        m.kind_ay[kind] = ay;
+        m.kind_rest[kind] = r.rest;
+        m.kind_g_xx[kind] = r.g_xx;
+        m.kind_g_yy[kind] = r.g_yy;
+        m.kind_g_xy[kind] = r.g_xy;
+      } else if (!(std::abs(ax - m.kind_ax[kind]) <= 1e-12 * len && std::abs(ay - m.kind_ay[kind]) <= 1e-12 * len)) {
+        regular = false;
+      }
+    }
+    if (!regular) {
+      for (auto* v : tables) std::vector<double>().swap(*v);
+    } else if (!m.uses_strains) {
+      for (auto* v : {&m.kind_g_xx, &m.kind_g_yy, &m.kind_g_xy}) std::vector<double>().swap(*v);
+    }
+  }
+  if (m.kind_rest.empty()) {
+    m.rest_length.assign(nb, 0.0);
+    if (m.uses_strains)
+      for (auto* v : {&m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
   }
   if (m.any_softening) {
     for (auto* v : {&m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0, &m.cracks.delta_f}) v->assign(nb, 0.0);
@@ -181,15 +238,15 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-    const double ax = m.x0[j] - m.x0[i], ay = m.y0[j] - m.y0[i];  // Model::ref_ax, ref_ay
-    m.rest_length[b] = std::hypot(ax, ay);
-    m.nx[b] = ax / m.rest_length[b];
-    m.ny[b] = ay / m.rest_length[b];
-    if (m.uses_strains) {
-      const double sx = -m.ny[b], sy = m.nx[b], half = 0.5 * m.rest_length[b];
-      m.g_xx[b] = half * sx * m.nx[b];
-      m.g_yy[b] = half * sy * m.ny[b];
-      m.g_xy[b] = half * 0.5 * (sx * m.ny[b] + sy * m.nx[b]);
+    if (!m.rest_length.empty()) {
+      const double ax = m.x0[j] - m.x0[i], ay = m.y0[j] - m.y0[i];
+      const BondReference r = bond_reference(ax, ay, std::hypot(ax, ay));
+      m.rest_length[b] = r.rest;
+      if (m.uses_strains) {
+        m.g_xx[b] = r.g_xx;
+        m.g_yy[b] = r.g_yy;
+        m.g_xy[b] = r.g_xy;
+      }
     }
     const SpringConstants& K = materials.at(static_cast<std::size_t>(m.body[i])).springs;
     // A bond along a neat edge (two semi-disks) has half a bond's area in the region: half
@@ -209,8 +266,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     const bool axis_class = m.bond_class[b] == 1;
     const double kn = (axis_class ? K.kn1 : K.kn2) * w, ks = (axis_class ? K.ks1 : K.ks2) * w;
     if (per_kind) {
-      const auto kind = static_cast<std::size_t>(4 * m.body[i] + 2 * (axis_class ? 1 : 0) + (lat.bond_on_edge[b] ? 1 : 0));
-      m.spring_kind[b] = static_cast<std::uint8_t>(kind);
+      const std::size_t kind = m.spring_kind[b];
       HEXDEM_ASSERT(m.kind_k_n[kind] == 0.0 || (m.kind_k_n[kind] == kn && m.kind_k_s[kind] == ks),
                     "bonds of one spring kind with different stiffnesses");
       m.kind_k_n[kind] = kn;  // the same value for every bond of the kind
@@ -219,7 +275,7 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       m.k_n[b] = kn;
       m.k_s[b] = ks;
     }
-    if (!m.len_prev.empty()) m.len_prev[b] = m.rest_length[b];
+    if (!m.len_prev.empty()) m.len_prev[b] = m.rest(b);
     // Strengths and yield forces act on the bond's section 2r w (Eq. 19, physics.md 7).
     const BodyMaterial& bm = materials.at(static_cast<std::size_t>(m.body[i]));
     const double section = 2.0 * m.radius[i] * w;
@@ -236,6 +292,12 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     }
     ++bond_count[i];
     ++bond_count[j];
+  }
+  // An elastic lattice's gather reads the pair force; the laws read f_n and n back.
+  if (m.elastic_lattice()) {
+    for (auto* v : {&m.pair_fx, &m.pair_fy}) v->assign(nb, 0.0);
+  } else {
+    for (auto* v : {&m.f_n, &m.nx, &m.ny}) v->assign(nb, 0.0);
   }
   // The shear displacement is read back by the plastic, failure and J2 laws (bond_forces,
   // settle_broken_bonds); an elastic lattice's shear force is k_s u_s and keeps no u_s.
@@ -337,7 +399,7 @@ void reset_force_history(Model& m) {
   for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.bond_plastic.alpha_n, &m.bond_plastic.alpha_s}) std::fill(v->begin(), v->end(), 0.0);
   m.failed_rows.clear();
   std::fill(m.failed_row.begin(), m.failed_row.end(), -1);
-  if (!m.len_prev.empty()) m.len_prev = m.rest_length;
+  for (std::size_t b = 0; b < m.len_prev.size(); ++b) m.len_prev[b] = m.rest(b);
   const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
                      std::any_of(m.cracks.cracking.begin(), m.cracks.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));

@@ -316,7 +316,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   const ContactCells* cc = &contacts;
   g.cell_data.push_back(cells("state", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.state[b]); },
                               [](std::size_t) { return 5.0; }));
-  g.cell_data.push_back(cells("normal_force", io::ScalarType::Float64, [&m](std::size_t b) { return m.f_n[b]; },
+  g.cell_data.push_back(cells("normal_force", io::ScalarType::Float64, [&m](std::size_t b) { return bond_force(m, b).f_n; },
                               [cc](std::size_t k) { return cc->f_n[k]; }));
   g.cell_data.push_back(cells("shear_force", io::ScalarType::Float64, [&m](std::size_t b) { return m.f_s[b]; },
                               [cc](std::size_t k) { return cc->f_s[k]; }));

@@ -40,6 +40,9 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   check_symmetry_planes(case_, lattice_);
   setup_materials();
   lattice_hash_ = hexdem::solver::lattice_hash(lattice_);
+  // The cells' centroids: the build reads the ring radius of axisymmetric models only.
+  if (case_.geometry != Geometry::Axisymmetric)
+    for (auto* v : {&lattice_.cell_cx, &lattice_.cell_cy}) std::vector<double>().swap(*v);
   // The model takes the lattice's disk and bond arrays (no second copy at any time); the
   // lattice keeps its names and sets, and the arrays only the build needs are released.
   model_ = build_model(std::move(lattice_), case_.geometry, case_.thickness, case_.shear_model, body_materials_);

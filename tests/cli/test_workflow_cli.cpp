@@ -293,8 +293,8 @@ TEST(Restart, BadCheckpointsAreRefused) {
   expect_refused("hello", "not a hexdem checkpoint");
   expect_refused(good.substr(0, good.size() / 2), "checksum");
   std::string version = good;
-  version[8] = 10;  // the format version follows the 8-byte magic
-  expect_refused(version, "checkpoint format version 10, this hexdem reads version 9");
+  version[8] = 11;  // the format version follows the 8-byte magic
+  expect_refused(version, "checkpoint format version 11, this hexdem reads version 10");
   std::string flipped = good;
   flipped[flipped.size() / 2] ^= 1;
   expect_refused(flipped, "damaged or truncated checkpoint");

@@ -269,7 +269,7 @@ ClosingCrack closing_crack(double angle, double damage) {
     // Across a crossing from a to b (opposite signs) the trapezoid rule of central
     // differences misses the spring's energy by J a b / 2, at most J (b - a)^2 / 8.
     for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-      const double delta = m.len_prev[b] - m.rest_length[b];
+      const double delta = m.len_prev[b] - m.rest(b);
       if (n > 0 && m.cracks.cracking[b] && (delta > 0) != (last[b] > 0)) {
         const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
         const double cap = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]) * m.contact_omega2;

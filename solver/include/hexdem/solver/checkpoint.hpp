@@ -37,7 +37,7 @@ namespace hexdem::solver {
 /// 7: the Drucker-Prager disks (model.j2_alpha).
 /// 8: no stored neighbour per adjacency entry, no shear displacement in an elastic lattice.
 /// 9: the slip of a softening shear crack's faces in the failed bonds' rows (FailedBond::slip).
-inline constexpr std::uint32_t kCheckpointVersion = 9;
+inline constexpr std::uint32_t kCheckpointVersion = 10;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

@@ -227,17 +227,34 @@ struct Model {
 
   // ---- bonds --------------------------------------------------------------------------
   std::vector<std::int32_t> bi, bj;    ///< disk indices, bi < bj
-  std::vector<double> rest_length;     ///< |a| [m]
-  std::vector<double> g_xx, g_yy, g_xy;  ///< (|a|/2) sym(s0 (x) n0): u_s = g : (eps_i + eps_j) [m]
+  /// Reference geometry, read through ref_ax(b), ref_ay(b), rest(b) and LocalShearView: the
+  /// reference vector a from bi to bj, the rest length |a| [m] and g = (|a|/2) sym(s0 (x) n0),
+  /// u_s = g : (eps_i + eps_j) [m] (local-strain model). Once per spring kind (kind_*), which
+  /// then holds the bond's direction and sense, where every bond's a = x0_j - x0_i is its
+  /// kind's to 1e-12 |a| (a regular plane lattice; |a| as the bond pass computes a length,
+  /// so that a lattice at rest has no force); otherwise a from the centres and |a|, g per bond.
+  /// The other form is empty.
+  std::vector<double> rest_length;
+  std::vector<double> g_xx, g_yy, g_xy;
+  std::vector<double> kind_ax, kind_ay, kind_rest, kind_g_xx, kind_g_yy, kind_g_xy;
   /// Spring stiffnesses [N/m] (include w), read through kn(b) and ks(b): per bond in
   /// axisymmetric models (w is the bond's ring radius), otherwise once per spring kind (body,
-  /// bond class, edge bond or not), with the bond's kind in spring_kind; the other form is
-  /// empty.
+  /// bond direction and sense, edge bond or not: 12 body + 4 direction + 2 sense + edge,
+  /// direction 0 along the lattice axis), with the bond's kind in spring_kind; the other form
+  /// is empty.
   std::vector<double> k_n, k_s;
   std::vector<std::uint8_t> spring_kind;
   std::vector<double> kind_k_n, kind_k_s;
-  std::vector<double> f_n, f_s;        ///< normal and shear force [N], tension positive
-  std::vector<double> nx, ny;          ///< current unit vector from bi to bj
+  /// Normal and shear force [N], tension positive, and the current unit vector from bi to bj.
+  /// f_s always (the rotation model's is its history); f_n, nx and ny only where a law reads
+  /// them back (plasticity, failure, J2 disks): an elastic lattice (elastic_lattice()) keeps
+  /// pair_fx, pair_fy instead, and bond_force(m, b) gives all four in either case.
+  std::vector<double> f_n, f_s;
+  std::vector<double> nx, ny;
+  /// Elastic lattice only: the pair force on disk bi [N], f_n n + f_s s (rotation model) or
+  /// f_n n (local-strain model; its shear acts through the strains), written by the bond
+  /// pass for the gather (Eq. 3); recomputed every force pass, never history.
+  std::vector<double> pair_fx, pair_fy;
   /// Shear displacement [m]: local-strain u_s, or the softening rotation model's accumulated
   /// one; empty in an elastic lattice (elastic_bond_forces does not keep it).
   std::vector<double> u_s;
@@ -327,8 +344,12 @@ struct Model {
   /// Intact and not cracking: the bond enters its disks' strain fits.
   [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracks.cracking[b]); }
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
-  [[nodiscard]] double ref_ax(std::size_t b) const { return x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])]; }
-  [[nodiscard]] double ref_ay(std::size_t b) const { return y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])]; }
+  [[nodiscard]] double ref_ax(std::size_t b) const {
+    return kind_ax.empty() ? x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])] : kind_ax[spring_kind[b]];
+  }
+  [[nodiscard]] double ref_ay(std::size_t b) const {
+    return kind_ay.empty() ? y0[static_cast<std::size_t>(bj[b])] - y0[static_cast<std::size_t>(bi[b])] : kind_ay[spring_kind[b]];
+  }
   /// The other disk of disk i's adjacency entry k: bi ^ bj ^ i of the entry's bond (read from
   /// the bond's ends, not stored: 24 bytes per disk).
   [[nodiscard]] std::size_t adj_other(std::size_t i, std::int64_t k) const {
@@ -362,7 +383,7 @@ struct Model {
     return body_failure_law[static_cast<std::size_t>(body[static_cast<std::size_t>(bi[b])])];
   }
   [[nodiscard]] std::uint8_t bond_class_of(std::size_t b) const {
-    return bond_class.empty() ? ((spring_kind[b] & 2) ? 1 : 2) : bond_class[b];
+    return bond_class.empty() ? (spring_kind[b] % 12 < 4 ? 1 : 2) : bond_class[b];
   }
   [[nodiscard]] std::int32_t disk_material(std::size_t i) const {
     return body_material[static_cast<std::size_t>(body[i])];
@@ -379,6 +400,11 @@ struct Model {
   [[nodiscard]] double bond_break_time(std::size_t b) const { return failed_or_none(b).break_time; }
   [[nodiscard]] double contact_damping_work(std::size_t b) const { return failed_or_none(b).damping_work; }
   [[nodiscard]] double contact_friction_work(std::size_t b) const { return failed_or_none(b).friction_work; }
+  /// No plasticity, failure or J2 disks: the bond pass is elastic_bond_forces, and the bonds
+  /// keep their pair force (pair_fx, pair_fy) instead of f_n, nx and ny.
+  [[nodiscard]] bool elastic_lattice() const { return !(any_plastic || any_breakable || any_softening || any_j2); }
+  /// Rest length of bond b [m].
+  [[nodiscard]] double rest(std::size_t b) const { return kind_rest.empty() ? rest_length[b] : kind_rest[spring_kind[b]]; }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
@@ -476,6 +502,14 @@ BondDissipation bond_dissipation(const Model& m);
 /// rest, the integrator's share, as break_kinetic (docs/model.md, "Energy at a break").
 /// Returns the number of bonds that broke.
 std::size_t settle_broken_bonds(Model& m, double dt);
+
+/// Bond b's normal and shear force [N] and current unit vector from bi to bj, at the last
+/// force pass: stored, or, in an elastic lattice, f_n = k_n (L - L0) and n from the current
+/// positions by the bond pass's own arithmetic (the same bits).
+struct BondForce {
+  double f_n = 0, f_s = 0, nx = 0, ny = 0;
+};
+BondForce bond_force(const Model& m, std::size_t b);
 
 /// Love-Weber stress of disk i [Pa]: sigma = 1/(A w) sum sym(x_c (x) f_c), in components
 /// xx, yy, xy, and zz (plane strain isotropic: nu(sxx+syy); axisymmetric: the hoop stress;
