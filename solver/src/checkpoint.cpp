@@ -816,6 +816,11 @@ std::uint64_t lattice_hash(const meshing::Lattice& l) {
   add(l.bond_i);
   add(l.bond_j);
   add(l.cell_area);
+  // The boundary sets: names and members (an outline whose set names were swapped meshes to
+  // the same disks, but the run's conditions and the frames' set arrays follow the sets).
+  for (const std::string& name : l.set_names) h = fnv1a(name.data(), name.size() + 1, h);  // with its NUL: no run-on
+  add(l.set_offset);
+  add(l.set_disk);
   return h;
 }
 
@@ -890,7 +895,7 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
     throw InputError(path + ": checkpoint of another case (the effective case differs from " + s.case_data().source +
                      " with these --set values; restart with the case and overrides it was written with)");
   if (lhash != s.lattice_hash())
-    throw InputError(path + ": checkpoint of another lattice than " + s.case_data().source + " meshes to");
+    throw InputError(path + ": checkpoint of another lattice or other boundary sets than " + s.case_data().source + " meshes to");
 
   std::map<std::string, Record> records;
   std::size_t at = header;

@@ -15,6 +15,10 @@ namespace hexdem::solver {
 
 using detail::fmt;
 
+/// Run health: the largest distance a disk may travel in one step where contacts act, in
+/// radii (docs/model.md, "Contact").
+constexpr double kMaxTravelPerStep = 0.5;
+
 void Solver::setup_energy_scale() {
   // The elastic energy of the model at a uniform strain of 1e-9 [J]: far above round-off
   // (about 1e-16 of a run's energies), far below any loading worth simulating.
@@ -52,6 +56,27 @@ bool Solver::check_energy(const StepSums& s, bool diagnostics) {
                                           fmt(std::max(e.input(), e.scale)) + " J)");
   }
   if (!diagnostics) return true;
+  if (contacts_on_ || !case_.walls.empty()) {
+    // A contact stops an approaching disk over several steps: a disk that travels more than
+    // half its radius in one step can cross a partner (a plate one disk thick) unseen, with
+    // no force and no energy error to show for it.
+    const Model& m = model_;
+    const double dt = dt_info_.dt;
+    double worst = 0;
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < m.num_disks(); ++i) {
+      const double travel = dt * std::sqrt(m.vx[i] * m.vx[i] + m.vy[i] * m.vy[i]) / m.radius[i];
+      if (travel > worst) worst = travel, at = i;
+    }
+    if (worst > kMaxTravelPerStep) {
+      const double v = std::sqrt(m.vx[at] * m.vx[at] + m.vy[at] * m.vy[at]);
+      return fail(BlowUp::Kind::BlowUp,
+                  "a disk at (" + fmt(m.x0[at] + m.ux[at]) + ", " + fmt(m.y0[at] + m.uy[at]) + ") m moves " +
+                      fmt(v * dt) + " m per step at " + fmt(v) + " m/s, " + fmt(worst, 3) + " times its radius " +
+                      fmt(m.radius[at]) + " m: contacts cannot stop it (at most " + fmt(kMaxTravelPerStep) +
+                      " radius per step); lower [time] safety or give a smaller [time] dt");
+    }
+  }
   if (elastic < -case_.time.energy_limit * scale) {
     return fail(BlowUp::Kind::BlowUp, "the elastic energy is negative (" + fmt(elastic) + " J, input " +
                                           fmt(e.input()) + " J): the lattice has become unstable");

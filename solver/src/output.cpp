@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 
 #include <algorithm>
@@ -376,6 +377,7 @@ void RunOutput::truncate_for_restart(const std::string& path, std::uint64_t byte
 }
 
 void RunOutput::save_state(RunState& state) {
+  list_frames(true);  // the .pvd lists what the checkpoint does
   state.frames = pvd_;
   state.last_frame = last_frame_;
   // The size on disk after a flush (tellp() of a stream opened to append is not the size).
@@ -484,21 +486,29 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
       check_for_restart(reactions_path_, resume->reactions_bytes, resume->reactions_hash);
   }
 
-  // Every check passed: prepare the folder.
+  // Every check passed: prepare the folder. The status says "running" before anything of
+  // a finished series goes (a status that cannot be written stops the run here).
   make_folder(dir_);
   make_folder(frame_dir_);
+  write_status("running");
   std::error_code ec;
   // Old frames of this case would be listed by nobody but could confuse a reader: remove them
-  // (on a restart, those after the checkpoint).
+  // (on a restart, those after the checkpoint). Only the names hexdem gives its frames,
+  // <case>_<step, 9 or more digits>.vtu: other files in the folder are the user's.
+  const auto is_frame = [this](const std::string& f) {
+    const std::string head = name_ + "_", tail = ".vtu";
+    if (f.size() < head.size() + 9 + tail.size() || f.compare(0, head.size(), head) != 0 ||
+        f.compare(f.size() - tail.size(), tail.size(), tail) != 0)
+      return false;
+    return std::all_of(f.begin() + static_cast<std::ptrdiff_t>(head.size()), f.end() - static_cast<std::ptrdiff_t>(tail.size()),
+                       [](char ch) { return ch >= '0' && ch <= '9'; });
+  };
   for (fs::directory_iterator it(frame_dir_, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string f = it->path().filename().string();
     std::error_code rm;
-    if (f.rfind(name_ + "_", 0) == 0 && it->path().extension() == ".vtu" &&
-        std::find(keep.begin(), keep.end(), f) == keep.end())
-      fs::remove(it->path(), rm);
+    if (is_frame(f) && std::find(keep.begin(), keep.end(), f) == keep.end()) fs::remove(it->path(), rm);
   }
   if (ec) throw InputError(frame_dir_ + ": cannot list the folder (" + ec.message() + ")");
-  write_status("running");
   // The CSVs of a restart continue from the checkpoint; those of a new run start afresh.
   if (resume != nullptr) {
     truncate_for_restart(energy_path_, resume->energy_bytes);
@@ -509,7 +519,7 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     // The last frame in this folder (the checkpoint's own path names the folder it was
     // written in, which may since have been copied or moved).
     last_frame_ = pvd_.empty() ? std::string() : (fs::path(dir_) / pvd_.back().file).string();
-    io::write_pvd(pvd_path_, pvd_);
+    list_frames(true);
   } else {
     fs::remove(pvd_path_, ec);
   }
@@ -548,7 +558,19 @@ void RunOutput::flush_csvs() {
 }
 
 void RunOutput::finish() {
+  list_frames(true);
   for (CsvFile* f : {&energy_, &probes_, &bodies_, &reactions_}) f->close();
+}
+
+void RunOutput::list_frames(bool all) {
+  const std::size_t unlisted = pvd_.size() - pvd_listed_;
+  const auto now = std::chrono::steady_clock::now();
+  if (!all && (unlisted == 0 || (unlisted < std::max<std::size_t>(1, pvd_listed_ / 16) &&
+                                 now - pvd_written_ < std::chrono::seconds(2))))
+    return;
+  io::write_pvd(pvd_path_, pvd_);
+  pvd_listed_ = pvd_.size();
+  pvd_written_ = now;
 }
 
 void RunOutput::write_frame(const Solver& solver) {
@@ -560,8 +582,8 @@ void RunOutput::write_frame(const Solver& solver) {
   wo.compression_level = compression_level_;
   io::write_vtu(path, g, wo);
   pvd_.push_back({solver.time(), name_ + "/" + file});
-  io::write_pvd(pvd_path_, pvd_);
   last_frame_ = path;
+  list_frames(false);
 }
 
 void RunOutput::write_energy(const Solver& solver) {
@@ -661,12 +683,58 @@ void RunOutput::write_status(const std::string& line) {
     std::ofstream f(tmp, std::ios::trunc);
     f << line << "\n";
     f.flush();
-    if (!f) throw InputError(tmp + ": cannot write (" + errno_reason() + ")");
+    if (!f) {
+      const std::string reason = errno_reason();
+      std::error_code rm;
+      fs::remove(tmp, rm);  // no stray temporary file
+      throw InputError(tmp + ": cannot write (" + reason + ")");
+    }
   }
   std::error_code ec;
   fs::rename(tmp, status_path_, ec);
-  if (ec) throw InputError(status_path_ + ": cannot write (" + ec.message() + ")");
+  if (ec) {
+    std::error_code rm;
+    fs::remove(tmp, rm);
+    throw InputError(status_path_ + ": cannot write (" + ec.message() + ")");
+  }
 }
+
+namespace {
+
+/// SIGINT or SIGTERM during a run: the loop stops after the step, lists its frames, records
+/// `interrupted` in the status and exits 128 + the signal; a second signal ends the program
+/// at once (the default action).
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void stop_run(int sig) {
+  if (g_stop_signal != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_stop_signal = sig;
+}
+
+/// Installs stop_run for the run's loop and restores the previous handlers after it.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    int_ = std::signal(SIGINT, stop_run);
+    term_ = std::signal(SIGTERM, stop_run);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, int_ == SIG_ERR ? SIG_DFL : int_);
+    std::signal(SIGTERM, term_ == SIG_ERR ? SIG_DFL : term_);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  void (*int_)(int) = SIG_DFL;
+  void (*term_)(int) = SIG_DFL;
+};
+
+}  // namespace
 
 int run_case(const Case& c, const RunOptions& options) {
   const auto wall0 = std::chrono::steady_clock::now();
@@ -759,6 +827,9 @@ int run_case(const Case& c, const RunOptions& options) {
     if (frame) out.write_frame(s);
     output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
+  const StopSignals stop_signals;
+  int stopped_by = 0;
+  try {
   for (std::int64_t n = first_step; n <= steps; ++n) {
     const double t = static_cast<double>(n) * dt;
     const bool last = n == steps;
@@ -799,8 +870,36 @@ int run_case(const Case& c, const RunOptions& options) {
         if (last) std::fprintf(stderr, "\n");
       }
     }
+    if (g_stop_signal != 0 && !last) {
+      stopped_by = g_stop_signal;
+      break;
+    }
+  }
+  } catch (const InputError& e) {
+    // An output that could not be written mid-run: the status says so where it still can
+    // (it said "running"), and the error goes on (exit 2, one line).
+    try {
+      out.finish();
+    } catch (const std::exception&) {  // the same full disk: the status below may still fit
+    }
+    try {
+      out.write_status(std::string("failed: ") + e.what());
+    } catch (const std::exception&) {
+    }
+    throw;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (stopped_by != 0) {
+    // Stopped by SIGINT or SIGTERM: the series is whole up to its last frame, and says so.
+    if (options.progress) std::fprintf(stderr, "\n");
+    out.finish();
+    const char* name = stopped_by == SIGINT ? "SIGINT" : "SIGTERM";
+    std::fprintf(stderr, "hexdem: interrupted by %s at step %lld (t = %.6g s); last frame: %s\n", name,
+                 static_cast<long long>(solver.step_index()), solver.time(),
+                 out.last_frame().empty() ? "none" : out.last_frame().c_str());
+    out.write_status(std::string("interrupted at t = ") + meshing::format_number(solver.time()) + " s (" + name + ")");
+    return 128 + stopped_by;
+  }
   if (!ok) {
     if (options.progress) std::fprintf(stderr, "\n");
     const BlowUp& b = solver.blow_up();

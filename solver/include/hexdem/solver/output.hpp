@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <fstream>
+#include <chrono>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -101,7 +102,8 @@ public:
   /// fired (exit code 3), or `failed: <reason>` (docs/file-format.md). Analysis scripts refuse
   /// a series that did not complete, and pass the warning on.
   void write_status(const std::string& line);
-  /// Writes out and closes the CSVs (end of a run); throws InputError on a failed write.
+  /// Lists every frame in the .pvd, writes out and closes the CSVs (end of a run, or of a
+  /// stopped one); throws InputError on a failed write.
   void finish();
   /// Writes what the CSVs hold (all whole rows).
   void flush_csvs();
@@ -141,6 +143,12 @@ private:
   std::string dir_, frame_dir_, name_;
   std::string pvd_path_, energy_path_, probes_path_, bodies_path_, reactions_path_, status_path_, last_frame_;
   std::vector<io::PvdEntry> pvd_;
+  std::size_t pvd_listed_ = 0;  ///< frames the .pvd on disk lists (list_frames)
+  std::chrono::steady_clock::time_point pvd_written_{};
+  /// Rewrites the .pvd with every frame written: always with `all`, otherwise after each of
+  /// the first 16 frames, then once 1/16 more have come or 2 s have passed, so that a series
+  /// of N frames costs O(N) in rewrites, not O(N^2). A reader always finds whole frames listed.
+  void list_frames(bool all);
   CsvFile energy_, probes_, bodies_, reactions_;
   std::vector<ProbePoint> probe_points_;
   /// Body histories: slot of each body index (-1: not recorded), and the per-slot sums
