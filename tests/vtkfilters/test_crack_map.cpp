@@ -301,11 +301,11 @@ TEST(CrackMap, MaxBreakTimeNeedsBreakTimes) {
 TEST(CrackMap, PrintSelfListsProperties) {
   vtkNew<vtkHexDEMCrackMap> filter;
   filter->MergeSegmentsOff();
-  filter->SetMergeTolerance(0.9);  // clamped to 0.5
+  filter->SetMergeTolerance(0.9);  // not clamped: refused when the filter runs (test_bad_input)
   filter->SetMaxBreakTime(2.5e-5);
   std::ostringstream os;
   filter->Print(os);
-  for (const char* key : {"MergeSegments: Off", "MergeTolerance: 0.5", "UseMaxBreakTime: Off",
+  for (const char* key : {"MergeSegments: Off", "MergeTolerance: 0.9", "UseMaxBreakTime: Off",
                           "MaxBreakTime: 2.5e-05"}) {
     EXPECT_NE(os.str().find(key), std::string::npos) << key;
   }

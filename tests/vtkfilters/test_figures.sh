@@ -34,4 +34,31 @@ for script in figure_max_shear figure_cracks figure_fragments; do
   grep -q "missing.pvd" "$work/err.txt" || { echo "$script: error does not name the file"; exit 1; }
   [ ! -e "$work/missing.png" ] || { echo "$script: PNG written for a missing input"; exit 1; }
 done
+# A series that lists a missing frame: one line naming that frame (was: 22 lines of VTK errors
+# and "has no disks"). A frame whose disk centres are all NaN: refused (was: a PNG, exit 0).
+sed 's#file="[^"]*"#file="no_such_frame.vtu"#' "$frames/series.pvd" > "$work/missing_frame.pvd"
+/usr/bin/python3 - "$frames/fractured.vtu" "$work/nan_points.vtu" <<'PY'
+import sys
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
+r = vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()
+g = r.GetOutput(); p = g.GetPoints().GetData()
+for k in range(p.GetNumberOfTuples()):
+    p.SetTuple3(k, float("nan"), float("nan"), 0.0)
+w = vtkXMLUnstructuredGridWriter(); w.SetFileName(sys.argv[2]); w.SetInputData(g); w.Write()
+PY
+for script in figure_max_shear figure_cracks figure_fragments; do
+  for input in missing_frame.pvd nan_points.vtu; do
+    rm -f "$work/bad.png"
+    if render "$scripts/$script.py" "$work/$input" "$work/bad.png" 2> "$work/err.txt"; then
+      echo "$script $input: did not fail"; exit 1
+    fi
+    [ "$(wc -l < "$work/err.txt")" -eq 1 ] || { echo "$script $input: not one line:"; cat "$work/err.txt"; exit 1; }
+    [ ! -e "$work/bad.png" ] || { echo "$script $input: PNG written"; exit 1; }
+  done
+  grep -q "nan_points.vtu': the 'Points' array holds nan" "$work/err.txt" ||
+    { echo "$script: wrong reason for NaN points:"; cat "$work/err.txt"; exit 1; }
+done
+render "$scripts/figure_cracks.py" "$work/missing_frame.pvd" "$work/bad.png" 2> "$work/err.txt" || true
+grep -q "frame '.*no_such_frame.vtu' listed in '.*missing_frame.pvd' does not exist" "$work/err.txt" ||
+  { echo "missing frame: wrong reason:"; cat "$work/err.txt"; exit 1; }
 echo "figure test passed"

@@ -310,8 +310,8 @@ TEST(FragmentCounter, PrintSelfListsProperties) {
   EXPECT_NE(os.str().find("MinimumDisks: 7"), std::string::npos);
   EXPECT_NE(os.str().find("Body: -1"), std::string::npos);
   EXPECT_NE(os.str().find("BodyName: (none)"), std::string::npos);
-  filter->SetMinimumDisks(0);  // clamped
-  EXPECT_EQ(filter->GetMinimumDisks(), 1);
+  filter->SetMinimumDisks(0);  // not clamped: refused when the filter runs (test_bad_input)
+  EXPECT_EQ(filter->GetMinimumDisks(), 0);
 }
 
 }  // namespace

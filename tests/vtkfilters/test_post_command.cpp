@@ -10,6 +10,7 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
@@ -21,6 +22,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -439,4 +441,107 @@ TEST(PostHostile, FullDiskLeavesNoTruncatedFileAndNoSuccessLine) {
   EXPECT_NE(r.err.find("cannot write the file"), std::string::npos) << r.err;
   for (const char* input : {"frames/f0.vtu", "frames/f1.vtu", "frames/f2.vtu"})
     EXPECT_EQ(r.err.find(input), std::string::npos) << "blames an input frame: " << r.err;
+}
+
+// ---- hostile-input report 3: items 9, 12 and 23 (`hexdem post`) ---------------------------
+
+TEST(PostHostile, NonFiniteOrOutOfRangeFrameValuesAreRefused) {
+  // Was: exit 0 with "max tau_max  Pa at (, )", empty CSV fields, a mass of -55, every disk
+  // a fragment for state 200, t = 0 for a NaN time.
+  const fs::path dir = work_dir("hostile_values");
+  const Lattice l = make_lattice(5, 4, kR);
+  FrameData d;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    std::string name, expected;
+    std::function<void(vtkUnstructuredGrid*)> damage;
+  };
+  const std::vector<Case> cases = {
+      {"stress_nan", "point array 'stress' holds nan at tuple 0, component 0",
+       [&](vtkUnstructuredGrid* g) { g->GetPointData()->GetArray("stress")->SetComponent(0, 0, nan); }},
+      {"points_nan", "the 'Points' array holds nan at tuple 2, component 0",
+       [&](vtkUnstructuredGrid* g) { g->GetPoints()->GetData()->SetComponent(2, 0, nan); }},
+      {"mass_negative", "point array 'mass' holds -55 at tuple 1",
+       [&](vtkUnstructuredGrid* g) { g->GetPointData()->GetArray("mass")->SetComponent(1, 0, -55); }},
+      {"state_200", "cell array 'state' holds 200 at tuple 3",
+       [&](vtkUnstructuredGrid* g) { g->GetCellData()->GetArray("state")->SetComponent(3, 0, 200); }},
+      {"time_nan", "field array 'time' holds nan",
+       [&](vtkUnstructuredGrid* g) {
+         vtkDataArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("time"))->SetComponent(0, 0, nan);
+       }},
+      {"body_7", "point array 'body' holds 7 at tuple 0",
+       [&](vtkUnstructuredGrid* g) {
+         g->GetPointData()->GetArray("body")->SetComponent(0, 0, 7);
+         vtkNew<vtkStringArray> names;
+         names->SetName("body_names");
+         names->InsertNextValue("plate");
+         g->GetFieldData()->AddArray(names);
+       }},
+  };
+  for (const Case& c : cases) {
+    auto frame = make_frame(l, d);
+    c.damage(frame);
+    write_frame((dir / (c.name + ".vtu")).string(), frame);
+    for (const char* a : {"maxshear", "cracks", "fragments"}) {
+      SCOPED_TRACE(std::string(a) + " " + c.name);
+      expect_input_error(dir, std::string(a) + " " + c.name + ".vtu -o out", c.name + ".vtu: " + c.expected);
+    }
+  }
+  // Options: NaN, infinite, or a p_max whose inverse overflows.
+  write_frame((dir / "good.vtu").string(), make_frame(l, d));
+  expect_input_error(dir, "maxshear good.vtu --p-max nan -o out", "--p-max: must be a finite number >= 0 (got nan)");
+  expect_input_error(dir, "maxshear good.vtu --p-max 1e-320 -o out", "1/p_max overflows");
+  expect_input_error(dir, "maxshear good.vtu --thickness nan -o out", "--thickness: must be a finite number >= 0 (got nan)");
+  expect_input_error(dir, "maxshear good.vtu --thickness inf -o out", "(got inf)");
+  expect_input_error(dir, "cracks good.vtu --max-break-time nan -o out", "--max-break-time");
+  expect_input_error(dir, "cracks good.vtu --merge-tolerance nan -o out", "--merge-tolerance");
+  expect_input_error(dir, "fragments good.vtu --min-disks -5 -o out", "--min-disks");
+  EXPECT_EQ(post(dir, "maxshear good.vtu -o ok -q").code, 0);
+}
+
+TEST(PostHostile, OutputsNeverReplaceInputs) {
+  // Was: `post fragments f.vtu -o f` replaced f.vtu, and `post maxshear run.pvd --all -o run`
+  // replaced the run's own series.
+  const fs::path dir = work_dir("hostile_overwrite");
+  write_series3(dir);
+  const std::string frame = read_binary(dir / "frames/f1.vtu");
+  const std::string series = read_binary(dir / "run.pvd");
+  Result r = post(dir, "fragments frames/f1.vtu -o frames/f1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("-o: the output frames/f1.vtu would overwrite the input frames/f1.vtu"),
+            std::string::npos) << r.err;
+  r = post(dir, "maxshear run.pvd --all -o run");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("would overwrite the input run.pvd"), std::string::npos) << r.err;
+  EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+  // A frame of the series that is not processed is protected too.
+  r = post(dir, "cracks run.pvd --time 0 --csv-only -o frames/f2.csv");
+  EXPECT_EQ(r.code, 0) << r.err;  // the .csv is not an input
+  r = post(dir, "maxshear run.pvd --time 0 -o frames/f2");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("would overwrite the input"), std::string::npos) << r.err;
+  EXPECT_EQ(read_binary(dir / "frames/f1.vtu"), frame);
+  EXPECT_EQ(read_binary(dir / "run.pvd"), series);
+  EXPECT_FALSE(fs::exists(dir / "run_frames"));
+}
+
+TEST(PostHostile, NotRegularFilesAndFailedSeriesLeaveNothing) {
+  const fs::path dir = work_dir("hostile_special");
+  fs::create_directories(dir / "folder.vtu");
+  fs::create_directories(dir / "folder.pvd");
+  fs::create_symlink("/dev/zero", dir / "zero.vtu");
+  expect_input_error(dir, "cracks folder.vtu -o out", "folder.vtu: not a regular file (a folder)");
+  expect_input_error(dir, "cracks folder.pvd -o out", "folder.pvd: not a regular file (a folder)");
+  expect_input_error(dir, "cracks zero.vtu -o out", "zero.vtu: not a regular file");
+  expect_input_error(dir, "cracks /dev/zero -o out", "/dev/zero: not a regular file");
+  // A series whose last frame is bad: no frame folder, no frames, no .pvd, no .csv.
+  write_series3(dir);
+  auto bad = make_frame(make_lattice(12, 10, kR), FrameData{});
+  bad->GetPointData()->GetArray("stress")->SetComponent(0, 0, std::numeric_limits<double>::infinity());
+  write_frame((dir / "frames/f2.vtu").string(), bad);
+  for (const char* a : {"maxshear", "cracks", "fragments"}) {
+    SCOPED_TRACE(a);
+    expect_input_error(dir, std::string(a) + " run.pvd --all -o out", "frames/f2.vtu: point array 'stress' holds inf");
+    EXPECT_FALSE(fs::exists(dir / "out_frames"));
+  }
 }

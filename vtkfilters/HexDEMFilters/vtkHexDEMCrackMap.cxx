@@ -196,6 +196,16 @@ int vtkHexDEMCrackMap::Execute(vtkUnstructuredGrid* input, vtkPolyData* output) 
     vtkErrorMacro("The input frame has no disks (empty grid).");
     return 0;
   }
+  if (!(this->MergeTolerance >= 0 && this->MergeTolerance <= 0.5)) {
+    vtkErrorMacro("Bad property: MergeTolerance is " << FormatNumber(this->MergeTolerance)
+                                                     << " (expected 0 to 0.5).");
+    return 0;
+  }
+  if (this->UseMaxBreakTime && !std::isfinite(this->MaxBreakTime)) {
+    vtkErrorMacro("Bad property: MaxBreakTime is " << FormatNumber(this->MaxBreakTime)
+                                                   << " (expected a finite number of seconds).");
+    return 0;
+  }
   vtkCellData* inCD = input->GetCellData();
   std::string error;
   LineCells lines;
@@ -203,11 +213,11 @@ int vtkHexDEMCrackMap::Execute(vtkUnstructuredGrid* input, vtkPolyData* output) 
   DoubleValues points;
   DoubleValues radius;
   DoubleValues breakTime;
-  if (!state.Load(inCD->GetArray("state"), numCells, "'state' cell", error) ||
+  if (!state.Load(inCD->GetArray("state"), numCells, "'state' cell", error, Contact) ||
       !radius.Load(input->GetPointData()->GetArray("radius"), 1, numDisks, "'radius' point",
-                   error) ||
+                   error, Domain::Positive) ||
       !points.Load(input->GetPoints()->GetData(), 3, numDisks, "point coordinates", error) ||
-      !lines.Load(input, error)) {
+      !lines.Load(input, error) || !CheckFieldNumbers(input->GetFieldData(), error)) {
     vtkErrorMacro("Bad input (is it a hexdem result frame?): " << error << ".");
     return 0;
   }

@@ -64,9 +64,10 @@ class HEXDEMFILTERSCORE_EXPORT vtkHexDEMCrackMap : public vtkPolyDataAlgorithm {
   ///@{
   /**
    * Distance within which segment end points are merged, as a fraction of the smallest mean
-   * disk radius of the broken bonds (default 0.1; clamped to [0, 0.5]).
+   * disk radius of the broken bonds (default 0.1). A value outside [0, 0.5] (or NaN) is not
+   * clamped: the filter refuses to run with it (an error naming the value).
    */
-  vtkSetClampMacro(MergeTolerance, double, 0.0, 0.5);
+  vtkSetMacro(MergeTolerance, double);
   vtkGetMacro(MergeTolerance, double);
   ///@}
 

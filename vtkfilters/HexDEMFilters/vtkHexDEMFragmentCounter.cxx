@@ -134,10 +134,20 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
     vtkErrorMacro("The input frame has no disks (empty grid).");
     return 0;
   }
+  if (this->MinimumDisks < 1) {
+    vtkErrorMacro("Bad property: MinimumDisks is " << this->MinimumDisks << " (expected >= 1).");
+    return 0;
+  }
+  if (this->Body < -1) {
+    vtkErrorMacro("Bad property: Body is " << this->Body
+                                           << " (expected a body index >= 0, or -1: every body).");
+    return 0;
+  }
   std::string error;
   LineCells lines;
   ByteValues state;
-  if (!state.Load(input->GetCellData()->GetArray("state"), numCells, "'state' cell", error) ||
+  if (!state.Load(input->GetCellData()->GetArray("state"), numCells, "'state' cell", error,
+                  Contact) ||
       !lines.Load(input, error)) {
     vtkErrorMacro("Bad input (is it a hexdem result frame?): " << error << ".");
     return 0;
@@ -149,25 +159,34 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
   DoubleValues mass;
   DoubleValues area;
   DoubleValues velocity;
-  if (!points.Load(input->GetPoints()->GetData(), 3, numDisks, "point coordinates", error)) {
+  if (!points.Load(input->GetPoints()->GetData(), 3, numDisks, "point coordinates", error) ||
+      !CheckFieldNumbers(input->GetFieldData(), error)) {
     vtkErrorMacro("Bad input: " << error << ".");
     return 0;
   }
   std::string missing;
-  auto optional = [&](DoubleValues& values, const char* name, int components) -> bool {
+  auto optional = [&](DoubleValues& values, const char* name, int components,
+                      Domain domain) -> bool {
     vtkDataArray* array = inPD->GetArray(name);
     if (!array) {
       missing += std::string(missing.empty() ? "" : ", ") + "'" + name + "'";
       return false;
     }
-    if (!values.Load(array, components, numDisks, std::string("'") + name + "' point", error)) {
-      throw std::runtime_error(error);
+    if (!values.Load(array, components, numDisks, std::string("'") + name + "' point", error,
+                     domain)) {
+      throw std::invalid_argument(error);
     }
     return true;
   };
-  const bool hasMass = optional(mass, "mass", 1);
-  const bool hasArea = optional(area, "cell_area", 1);
-  const bool hasVelocity = optional(velocity, "velocity", 3);
+  bool hasMass = false, hasArea = false, hasVelocity = false;
+  try {
+    hasMass = optional(mass, "mass", 1, Domain::Positive);
+    hasArea = optional(area, "cell_area", 1, Domain::NonNegative);
+    hasVelocity = optional(velocity, "velocity", 3, Domain::Finite);
+  } catch (const std::invalid_argument& e) {
+    vtkErrorMacro("Bad input: " << e.what() << ".");
+    return 0;
+  }
   if (!missing.empty()) {
     vtkWarningMacro("The frame has no " << missing
                                         << " point array: the table columns that need it are NaN.");
@@ -183,7 +202,39 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
   const int* body = bodyArray ? bodies.Data() : nullptr;
   vtkStringArray* bodyNames =
       vtkStringArray::SafeDownCast(input->GetFieldData()->GetAbstractArray("body_names"));
+  // Body indices: integers >= 0, and below the number of names when the frame names them.
+  const vtkIdType numNames = bodyNames ? bodyNames->GetNumberOfValues() : 0;
+  if (bodyArray) {
+    for (vtkIdType i = 0; i < numDisks; ++i) {
+      const double b = bodyArray->GetComponent(i, 0);
+      if (!(b >= 0 && b == std::floor(b) && b <= VTK_INT_MAX) ||
+          (bodyNames && b >= static_cast<double>(numNames))) {
+        vtkErrorMacro("Bad input: 'body' point array holds "
+                      << FormatNumber(b) << " at tuple " << i << " (expected a body index 0 to "
+                      << (bodyNames ? std::to_string(numNames - 1) + ", the frame names " +
+                                          std::to_string(numNames) + " bodies"
+                                    : std::string("2147483647"))
+                      << ").");
+        return 0;
+      }
+    }
+  }
   int selectedBody = this->Body;
+  if (selectedBody >= 0 && (!this->BodyName || this->BodyName[0] == '\0') && body) {
+    // A body index the frame does not have is an error, as a body name it does not have.
+    bool known = bodyNames ? selectedBody < numNames : false;
+    for (vtkIdType i = 0; !known && i < numDisks; ++i) {
+      known = body[i] == selectedBody;
+    }
+    if (!known) {
+      vtkErrorMacro("Bad input: the frame has no body "
+                    << selectedBody << " (bodies: "
+                    << (bodyNames ? "0 to " + std::to_string(numNames - 1)
+                                  : std::string("the values of the 'body' point array"))
+                    << ").");
+      return 0;
+    }
+  }
   if (this->BodyName && this->BodyName[0] != '\0') {
     selectedBody = -1;
     std::string known;
@@ -352,6 +403,19 @@ int vtkHexDEMFragmentCounter::Execute(vtkUnstructuredGrid* input, vtkUnstructure
     colVx->SetValue(f, (v && fm > 0) ? sumMvx[k] / fm : nan);
     colVy->SetValue(f, (v && fm > 0) ? sumMvy[k] / fm : nan);
     colD->SetValue(f, fa >= 0 ? 2.0 * std::sqrt(fa / vtkMath::Pi()) : nan);
+  }
+  // Sums of finite values can still overflow: an infinite mass or area is not a result.
+  for (vtkDoubleArray* column : {colMass.GetPointer(), colArea.GetPointer(), colCx.GetPointer(),
+                                 colCy.GetPointer(), colVx.GetPointer(), colVy.GetPointer(),
+                                 colD.GetPointer()}) {
+    for (vtkIdType f = 0; f < counted; ++f) {
+      if (std::isinf(column->GetValue(f))) {
+        vtkErrorMacro("Bad input: the " << column->GetName() << " of fragment " << f << " is "
+                                        << FormatNumber(column->GetValue(f))
+                                        << " (the frame's values are too large).");
+        return 0;
+      }
+    }
   }
   table->AddColumn(colId);
   table->AddColumn(colDisks);

@@ -60,18 +60,20 @@ class HEXDEMFILTERSCORE_EXPORT vtkHexDEMFragmentCounter : public vtkUnstructured
   ///@{
   /**
    * Smallest number of disks of a fragment that is counted and listed in the table
-   * (default 1: every fragment, single disks included).
+   * (default 1: every fragment, single disks included). A value below 1 is not clamped: the
+   * filter refuses to run with it.
    */
-  vtkSetClampMacro(MinimumDisks, int, 1, VTK_INT_MAX);
+  vtkSetMacro(MinimumDisks, int);
   vtkGetMacro(MinimumDisks, int);
   ///@}
 
   ///@{
   /**
    * Only the fragments of this body (index into the frame's bodies, point array `body`);
-   * -1 (default): every body.
+   * -1 (default): every body. A value below -1, or a body the frame does not have, is an
+   * error (as a BodyName the frame does not have).
    */
-  vtkSetClampMacro(Body, int, -1, VTK_INT_MAX);
+  vtkSetMacro(Body, int);
   vtkGetMacro(Body, int);
   ///@}
 

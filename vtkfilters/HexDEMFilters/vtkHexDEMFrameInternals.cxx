@@ -11,7 +11,9 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace vtkHexDEMInternals {
@@ -51,10 +53,67 @@ void ConvertToByte(const T* in, vtkIdType n, std::uint8_t* out) {
   }
 }
 
+bool InDomain(double v, Domain domain) {
+  switch (domain) {
+    case Domain::Finite:
+      return std::isfinite(v);
+    case Domain::NonNegative:
+      return std::isfinite(v) && v >= 0;
+    case Domain::Positive:
+      return std::isfinite(v) && v > 0;
+  }
+  return false;
+}
+
 }  // namespace
 
+std::string FormatNumber(double value) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.10g", value);
+  return buffer;
+}
+
+vtkIdType FirstOutside(const double* values, vtkIdType n, Domain domain) {
+  for (vtkIdType k = 0; k < n; ++k) {
+    if (!InDomain(values[k], domain)) {
+      return k;
+    }
+  }
+  return -1;
+}
+
+const char* DomainText(Domain domain) {
+  switch (domain) {
+    case Domain::Finite:
+      return "expected a finite number";
+    case Domain::NonNegative:
+      return "expected a finite number >= 0";
+    case Domain::Positive:
+      return "expected a finite number > 0";
+  }
+  return "";
+}
+
 bool DoubleValues::Load(vtkDataArray* array, int components, vtkIdType tuples,
-                        const std::string& what, std::string& error) {
+                        const std::string& what, std::string& error, Domain domain) {
+  if (!this->LoadValues(array, components, tuples, what, error)) {
+    return false;
+  }
+  const vtkIdType bad = FirstOutside(this->Pointer, tuples * components, domain);
+  if (bad >= 0) {
+    error = what + " array holds " + FormatNumber(this->Pointer[bad]) + " at tuple " +
+            std::to_string(bad / components) +
+            (components > 1 ? ", component " + std::to_string(bad % components) : std::string()) +
+            " (" + DomainText(domain) + ")";
+    this->Pointer = nullptr;
+    this->Copy.clear();
+    return false;
+  }
+  return true;
+}
+
+bool DoubleValues::LoadValues(vtkDataArray* array, int components, vtkIdType tuples,
+                              const std::string& what, std::string& error) {
   this->Pointer = nullptr;
   this->Copy.clear();
   if (!CheckShape(array, components, tuples, what, error)) {
@@ -90,7 +149,27 @@ bool DoubleValues::Load(vtkDataArray* array, int components, vtkIdType tuples,
 }
 
 bool ByteValues::Load(vtkDataArray* array, vtkIdType tuples, const std::string& what,
-                      std::string& error) {
+                      std::string& error, int maxCode) {
+  if (!this->LoadValues(array, tuples, what, error)) {
+    return false;
+  }
+  if (maxCode < 255) {
+    for (vtkIdType k = 0; k < tuples; ++k) {
+      if (this->Pointer[k] > maxCode) {
+        error = what + " array holds " + FormatNumber(array->GetComponent(k, 0)) + " at tuple " +
+                std::to_string(k) + " (expected an integer code 0 to " + std::to_string(maxCode) +
+                ")";
+        this->Pointer = nullptr;
+        this->Copy.clear();
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+bool ByteValues::LoadValues(vtkDataArray* array, vtkIdType tuples, const std::string& what,
+                            std::string& error) {
   this->Pointer = nullptr;
   this->Copy.clear();
   if (!CheckShape(array, 1, tuples, what, error)) {
@@ -214,6 +293,34 @@ std::string FieldString(vtkFieldData* fieldData, const char* name) {
     return std::string();
   }
   return array->GetVariantValue(0).ToString();
+}
+
+bool CheckFieldNumbers(vtkFieldData* fieldData, std::string& error) {
+  struct Check {
+    const char* name;
+    Domain domain;
+  };
+  for (const Check& check : {Check{"time", Domain::Finite}, Check{"step", Domain::Finite},
+                             Check{"thickness", Domain::NonNegative},
+                             Check{"p_max", Domain::NonNegative}}) {
+    bool found = false;
+    const double value = FieldNumber(fieldData, check.name, found);
+    if (!found) {
+      continue;
+    }
+    if (!InDomain(value, check.domain)) {
+      error = std::string("field data '") + check.name + "' is " + FormatNumber(value) + " (" +
+              DomainText(check.domain) + ")";
+      return false;
+    }
+    if (std::string(check.name) == "p_max" && value > 0 && !std::isfinite(1.0 / value)) {
+      error = "field data 'p_max' is " + FormatNumber(value) +
+              " (too small: 1/p_max overflows; expected 0 or at least " + FormatNumber(DBL_MIN) +
+              ")";
+      return false;
+    }
+  }
+  return true;
 }
 
 bool IsAxisymmetric(vtkFieldData* fieldData) {

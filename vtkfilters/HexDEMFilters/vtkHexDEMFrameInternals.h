@@ -46,16 +46,36 @@ inline bool IsBroken(std::uint8_t state) {
   return state >= BrokenTension && state <= BrokenCompression;
 }
 
+/// What the values of a number array may be. A hexdem result frame never holds NaN or
+/// infinite values, negative masses or areas, or radii <= 0: such a frame is refused.
+enum class Domain {
+  Finite,       ///< any finite number
+  NonNegative,  ///< finite and >= 0
+  Positive,     ///< finite and > 0
+};
+
+/// A number for messages: "%.10g" ("nan", "inf", "-1", "1e-300").
+std::string FormatNumber(double value);
+
+/// Index of the first of `n` values that is not in `domain`, or -1.
+vtkIdType FirstOutside(const double* values, vtkIdType n, Domain domain);
+
+/// "expected a finite number", "... >= 0", "... > 0".
+const char* DomainText(Domain domain);
+
 /// The numbers of an array as contiguous doubles, `components` per tuple.
 class DoubleValues {
  public:
   /// Loads `array`. Returns false and sets `error` (naming `what`) when the array is null,
-  /// not numeric, or has another number of components or tuples than expected.
+  /// not numeric, has another number of components or tuples than expected, or holds a
+  /// value outside `domain` (the error names the first such value and its tuple).
   bool Load(vtkDataArray* array, int components, vtkIdType tuples, const std::string& what,
-            std::string& error);
+            std::string& error, Domain domain = Domain::Finite);
   const double* Data() const { return this->Pointer; }
 
  private:
+  bool LoadValues(vtkDataArray* array, int components, vtkIdType tuples, const std::string& what,
+                  std::string& error);
   const double* Pointer = nullptr;
   std::vector<double> Copy;
 };
@@ -64,11 +84,15 @@ class DoubleValues {
 /// integer in 0..255 become 255, which no filter treats as a known code.
 class ByteValues {
  public:
-  /// As DoubleValues::Load, for one-component arrays.
-  bool Load(vtkDataArray* array, vtkIdType tuples, const std::string& what, std::string& error);
+  /// As DoubleValues::Load, for one-component arrays. With `maxCode` < 255, a value that
+  /// is not an integer in 0..maxCode is an error naming the first such value.
+  bool Load(vtkDataArray* array, vtkIdType tuples, const std::string& what, std::string& error,
+            int maxCode = 255);
   const std::uint8_t* Data() const { return this->Pointer; }
 
  private:
+  bool LoadValues(vtkDataArray* array, vtkIdType tuples, const std::string& what,
+                  std::string& error);
   const std::uint8_t* Pointer = nullptr;
   std::vector<std::uint8_t> Copy;
 };
@@ -113,6 +137,11 @@ double FieldNumber(vtkFieldData* fieldData, const char* name, bool& found);
 
 /// The first value of a string (or numeric) field-data array, or "" when absent.
 std::string FieldString(vtkFieldData* fieldData, const char* name);
+
+/// Checks the frame's numeric field data: `time` and `step` finite, `thickness` and `p_max`
+/// finite and >= 0, and a positive `p_max` no smaller than 1/DBL_MAX (1/p_max is taken).
+/// Returns false and sets `error` naming the first bad one.
+bool CheckFieldNumbers(vtkFieldData* fieldData, std::string& error);
 
 /// True when the frame's `geometry` field data says "axisymmetric".
 bool IsAxisymmetric(vtkFieldData* fieldData);

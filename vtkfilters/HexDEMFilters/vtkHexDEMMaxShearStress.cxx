@@ -20,6 +20,7 @@
 #include <cmath>
 #include <exception>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkHexDEMMaxShearStress);
@@ -141,6 +142,30 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
     vtkErrorMacro("The input frame has no disks (empty grid).");
     return 0;
   }
+  // The properties: finite, >= 0, and 1/PMax must not overflow.
+  for (const auto& property : {std::make_pair("PMax", this->PMax),
+                               std::make_pair("Thickness", this->Thickness)}) {
+    if (!(std::isfinite(property.second) && property.second >= 0)) {
+      vtkErrorMacro("Bad property: " << property.first << " is "
+                                     << FormatNumber(property.second)
+                                     << " (expected a finite number >= 0; 0: from the frame).");
+      return 0;
+    }
+  }
+  if (this->PMax > 0 && !std::isfinite(1.0 / this->PMax)) {
+    vtkErrorMacro("Bad property: PMax is " << FormatNumber(this->PMax)
+                                           << " (too small: 1/PMax overflows).");
+    return 0;
+  }
+  std::string error;
+  {
+    DoubleValues points;
+    if (!points.Load(input->GetPoints()->GetData(), 3, numDisks, "point coordinates", error) ||
+        !CheckFieldNumbers(input->GetFieldData(), error)) {
+      vtkErrorMacro("Bad input: " << error << ".");
+      return 0;
+    }
+  }
   vtkPointData* inPD = input->GetPointData();
   vtkDataArray* stressArray = inPD->GetArray("stress");
   const bool recover = this->StressSource == STRESS_BOND_FORCES ||
@@ -153,7 +178,6 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
     return 0;
   }
 
-  std::string error;
   DoubleValues stress;
   std::vector<double> recovered;
   if (recover) {
@@ -167,10 +191,12 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
     const vtkIdType numCells = input->GetNumberOfCells();
     vtkCellData* inCD = input->GetCellData();
     if (!points.Load(input->GetPoints()->GetData(), 3, numDisks, "point coordinates", error) ||
-        !radius.Load(inPD->GetArray("radius"), 1, numDisks, "'radius' point", error) ||
-        !cellArea.Load(inPD->GetArray("cell_area"), 1, numDisks, "'cell_area' point", error) ||
+        !radius.Load(inPD->GetArray("radius"), 1, numDisks, "'radius' point", error,
+                     Domain::Positive) ||
+        !cellArea.Load(inPD->GetArray("cell_area"), 1, numDisks, "'cell_area' point", error,
+                       Domain::NonNegative) ||
         !lines.Load(input, error) ||
-        !state.Load(inCD->GetArray("state"), numCells, "'state' cell", error) ||
+        !state.Load(inCD->GetArray("state"), numCells, "'state' cell", error, Contact) ||
         !normalForce.Load(inCD->GetArray("normal_force"), 1, numCells, "'normal_force' cell",
                           error) ||
         !shearForce.Load(inCD->GetArray("shear_force"), 1, numCells, "'shear_force' cell", error)) {
@@ -184,7 +210,8 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
     DoubleValues ringRadius;
     const bool hasRingRadius = axisymmetric && inPD->GetArray("ring_radius");
     if (hasRingRadius && !ringRadius.Load(inPD->GetArray("ring_radius"), 1, numDisks,
-                                          "'ring_radius' point", error)) {
+                                          "'ring_radius' point", error,
+                                          Domain::NonNegative)) {
       vtkErrorMacro("Cannot recover the stress from the bond forces: " << error << ".");
       return 0;
     }
@@ -257,12 +284,24 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
       out[4] = s[1] / volume;
       out[1] = out[3] = s[2] / volume;
     }
+    // Forces over a tiny volume (e.g. a thickness of 1e-300 m) overflow: not a result.
+    const vtkIdType overflow = FirstOutside(recovered.data(), 9 * numDisks, Domain::Finite);
+    if (overflow >= 0) {
+      const vtkIdType disk = overflow / 9;
+      vtkErrorMacro("Bad input: the stress recovered for disk "
+                    << disk << " is " << FormatNumber(recovered[overflow]) << " (cell_area "
+                    << FormatNumber(area[disk]) << " m^2 times "
+                    << (axisymmetric ? "ring radius " : "thickness ")
+                    << FormatNumber(axisymmetric ? (ring ? ring[disk] : x[3 * disk]) : thickness)
+                    << " m is too small a volume).");
+      return 0;
+    }
     if (unusable > 0) {
       vtkWarningMacro(<< unusable << " disk(s) have no positive volume (cell_area * "
                       << (axisymmetric ? "ring radius" : "thickness")
                       << "); their recovered stress is set to 0.");
     }
-  } else if (!stress.Load(stressArray, 9, numDisks, "'stress' point", error)) {
+  } else if (!stress.Load(stressArray, 9, numDisks, "'stress' point", error, Domain::Finite)) {
     vtkErrorMacro("Bad input: " << error << " (a 3x3 tensor per disk, Pa).");
     return 0;
   }
@@ -312,6 +351,21 @@ int vtkHexDEMMaxShearStress::Execute(vtkUnstructuredGrid* input, vtkUnstructured
   vtkSMPTools::For(0, numDisks, kernel);
   if (this->GetAbortOutput()) {
     return 0;
+  }
+  // Finite stresses can still overflow (s_xx - s_yy of two values near DBL_MAX), and so can
+  // tau / p_max: an infinite result is not a result.
+  for (vtkDoubleArray* result : {tau.GetPointer(), tau3.GetPointer(), ratio.GetPointer(),
+                                 ratio3.GetPointer()}) {
+    if (!result) {
+      continue;
+    }
+    const vtkIdType bad = FirstOutside(result->GetPointer(0), numDisks, Domain::Finite);
+    if (bad >= 0) {
+      vtkErrorMacro("Bad input: '" << result->GetName() << "' of disk " << bad << " is "
+                                   << FormatNumber(result->GetValue(bad))
+                                   << " (the stress of that disk, or 1/p_max, is too large).");
+      return 0;
+    }
   }
 
   if (recover) {

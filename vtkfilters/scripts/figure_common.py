@@ -121,9 +121,94 @@ def loaded_plugin_path():
     return None
 
 
+def check_series_frames(script, path):
+    """Fails with one line naming the first frame a .pvd lists that is not a readable file
+    (before VTK's reader prints a screenful of errors about it)."""
+    import xml.etree.ElementTree as ElementTree
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (ElementTree.ParseError, OSError) as e:
+        fail(script, "'%s' is not a readable .pvd series (%s)" % (path, e))
+    folder = os.path.dirname(os.path.abspath(path))
+    datasets = root.findall("./Collection/DataSet")
+    if not datasets:
+        fail(script, "'%s' lists no frames" % path)
+    for dataset in datasets:
+        name = dataset.get("file") or ""
+        frame = name if os.path.isabs(name) else os.path.join(folder, name)
+        if not os.path.isfile(frame):
+            fail(script, "frame '%s' listed in '%s' does not exist" % (frame, path))
+
+
+def first_outside(array, ok):
+    """(tuple, component, value) of the first value of a vtkDataArray for which ok(value) is
+    false, or None."""
+    try:
+        import numpy
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        values = vtk_to_numpy(array).reshape(array.GetNumberOfTuples(), -1)
+        bad = numpy.argwhere(~ok(values))
+        if len(bad) == 0:
+            return None
+        t, c = int(bad[0][0]), int(bad[0][1])
+        return t, c, float(values[t, c])
+    except ImportError:
+        for t in range(array.GetNumberOfTuples()):
+            for c in range(array.GetNumberOfComponents()):
+                v = array.GetComponent(t, c)
+                if not ok(v):
+                    return t, c, v
+        return None
+
+
+def check_frame_values(script, path, data):
+    """Fails with one line naming the frame, the array and the first bad value when the disk
+    centres are not finite or a radius is not a finite number > 0 (not a frame of a run)."""
+    import math
+    try:
+        import numpy
+        finite, positive = numpy.isfinite, lambda v: numpy.isfinite(v) & (v > 0)
+    except ImportError:
+        finite, positive = math.isfinite, lambda v: math.isfinite(v) and v > 0
+    for what, array, ok, expected in (
+            ("'Points' array", data.GetPoints().GetData(), finite, "a finite number"),
+            ("'radius' point array", data.GetPointData().GetArray("radius"), positive,
+             "a finite number > 0")):
+        bad = first_outside(array, ok)
+        if bad is not None:
+            fail(script, "'%s': the %s holds %g at tuple %d, component %d (expected %s)"
+                 % (path, what, bad[2], bad[0], bad[1], expected))
+
+
+def update_filter(script, proxy, time, path):
+    """Runs a hexdem filter at `time`; when it refuses the frame, fails with its error message
+    on one line (VTK's own reports are kept off the terminal), naming the input `path`."""
+    import re
+    from vtkmodules.vtkCommonCore import vtkLogger, vtkOutputWindow, vtkStringOutputWindow
+    previous = vtkOutputWindow.GetInstance()
+    previous_verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+    sink = vtkStringOutputWindow()
+    vtkOutputWindow.SetInstance(sink)
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    try:
+        proxy.UpdatePipeline(time)
+    finally:
+        vtkLogger.SetStderrVerbosity(previous_verbosity)
+        vtkOutputWindow.SetInstance(previous)
+    text = sink.GetOutput()
+    # Reports look like "ERROR: In FILE, line N\nvtkClass (0x...): message\n\n".
+    errors = [re.sub(r"^vtk\w+ \(0x[0-9a-fA-F]+\): ", "", block.split("\n", 1)[-1].strip())
+              for block in text.split("\n\n") if block.strip().startswith("ERROR")]
+    if errors:
+        fail(script, "'%s': %s" % (path, " ".join(errors[0].split())))
+    if text:
+        sys.stderr.write(text)
+
+
 def open_input(script, pv, path, time):
     """A reader for the frame or series, and the time [s] to show (snapped to a frame)."""
     if path.lower().endswith(".pvd"):
+        check_series_frames(script, path)
         reader = pv.PVDReader(FileName=path)
         values = reader.TimestepValues  # a number for a single-frame series
         times = [float(values)] if isinstance(values, (int, float)) else list(values) or [0.0]
@@ -140,6 +225,7 @@ def open_input(script, pv, path, time):
         fail(script, "'%s' has no disks" % path)
     if data.GetPointData().GetArray("radius") is None:
         fail(script, "'%s' has no 'radius' point array (not a hexdem frame?)" % path)
+    check_frame_values(script, path, data)
     if not path.lower().endswith(".pvd"):
         time_array = data.GetFieldData().GetArray("time")
         if time_array is not None:

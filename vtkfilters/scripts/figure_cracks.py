@@ -40,7 +40,7 @@ def main(argv):
     if args.max_break_time is not None:
         cracks.UseMaxBreakTime = 1
         cracks.MaxBreakTime = args.max_break_time
-    cracks.UpdatePipeline(time)
+    fc.update_filter(SCRIPT, cracks, time, args.input)
     out = cracks.GetClientSideObject().GetOutputDataObject(0)
     counts = {name: int(fc.field_value(out, "crack_count_" + name, 0)) for _, name, _ in MODES}
     total = int(fc.field_value(out, "crack_count", 0))

@@ -40,7 +40,7 @@ def main(argv):
 
     fragments = pv.HexDEMFragmentCounter(Input=reader)
     fragments.MinimumDisks = args.min_disks
-    fragments.UpdatePipeline(time)
+    fc.update_filter(SCRIPT, fragments, time, args.input)
     out = fragments.GetClientSideObject().GetOutputDataObject(0)
     table = servermanager.Fetch(fragments, idx=1)
     count = int(fc.field_value(out, "fragment_count", 0))

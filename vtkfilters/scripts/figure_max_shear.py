@@ -40,7 +40,7 @@ def main(argv):
     shear = pv.HexDEMMaxShearStress(Input=reader)
     shear.PMax = args.p_max
     shear.ComputeThreeDimensional = 1 if args.three_d else 0
-    shear.UpdatePipeline(time)
+    fc.update_filter(SCRIPT, shear, time, args.input)
     out = shear.GetClientSideObject().GetOutputDataObject(0)
     if out is None or out.GetNumberOfPoints() == 0:
         fc.fail(SCRIPT, "the maximum shear stress of '%s' could not be computed" % args.input)

@@ -37,13 +37,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <map>
 #include <ostream>
 #include <set>
 #include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
+
+#include <sys/stat.h>
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/text.hpp"
@@ -134,6 +138,13 @@ std::string format_number(double v) {
   return buffer;
 }
 
+/// A number for messages: like format_number, but NaN is "nan".
+std::string number_text(double v) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
 double field_number(vtkFieldData* fd, const char* name) {
   if (!fd) return kNaN;
   vtkDataArray* a = vtkDataArray::SafeDownCast(fd->GetAbstractArray(name));
@@ -213,9 +224,21 @@ void write_vtk(const std::string& path, vtkDataObject* data, VtkMessageSink& sin
   }
 }
 
+/// Throws InputError "PATH: no such file" or "PATH: not a regular file" (a folder, a device
+/// such as /dev/zero, a FIFO) unless `path` is a regular file (or a link to one).
+void check_regular_file(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) throw InputError(path + ": no such file");
+  if (!fs::is_regular_file(status)) {
+    throw InputError(path + ": not a regular file (" +
+                     (fs::is_directory(status) ? "a folder" : "a device, FIFO or socket") + ")");
+  }
+}
+
 /// Reads one .vtu frame; throws InputError naming the file when it cannot.
 vtkSmartPointer<vtkUnstructuredGrid> read_frame(const std::string& path, VtkMessageSink& sink) {
-  if (!fs::is_regular_file(path)) throw InputError(path + ": no such file");
+  check_regular_file(path);
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   Reports reports(reader);
   if (!reader->CanReadFile(path.c_str())) {
@@ -239,6 +262,7 @@ vtkSmartPointer<vtkUnstructuredGrid> read_frame(const std::string& path, VtkMess
     throw InputError(path + ": cannot read the frame (" + meshing::one_line(why) + ")");
   }
   check_grid(path, grid);
+  check_frame_values(path, grid);
   return grid;
 }
 
@@ -454,7 +478,7 @@ const char* analysis_name(Analysis analysis) {
 }
 
 std::vector<SeriesFrame> read_series(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path + ": no such file");
+  check_regular_file(path);
   const std::string ext = lower_extension(path);
   if (ext == ".vtu") return {SeriesFrame{kNaN, path}};
   if (ext != ".pvd") {
@@ -524,16 +548,37 @@ std::size_t nearest_frame(const std::vector<SeriesFrame>& frames, double time) {
   return best;
 }
 
+namespace {
+/// The frames of run_post: filters and writes them, then the .pvd and the CSV; appends every
+/// file written to `written` as soon as it exists.
+void run_frames(const PostOptions& o, const std::vector<SeriesFrame>& selected,
+                const std::string& base, const fs::path& frame_folder,
+                const std::function<std::string(std::size_t)>& frame_name,
+                const std::string& extension, std::ostream& out, std::ostream& err,
+                std::vector<std::string>& written);
+}  // namespace
+
 std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::ostream& err) {
   if (o.all && o.time) throw InputError("--time and --all: give one of them");
   if (o.time && std::isnan(*o.time)) throw InputError("--time: must be a number of seconds (got nan)");
-  if (o.p_max < 0) throw InputError("--p-max: must be >= 0 (got " + format_number(o.p_max) + ")");
-  if (o.thickness < 0) {
-    throw InputError("--thickness: must be >= 0 (got " + format_number(o.thickness) + ")");
+  if (!(std::isfinite(o.p_max) && o.p_max >= 0)) {
+    throw InputError("--p-max: must be a finite number >= 0 (got " + number_text(o.p_max) + ")");
+  }
+  if (o.p_max > 0 && !std::isfinite(1.0 / o.p_max)) {
+    throw InputError("--p-max: " + number_text(o.p_max) +
+                     " Pa is too small (1/p_max overflows); give 0 or a larger value");
+  }
+  if (!(std::isfinite(o.thickness) && o.thickness >= 0)) {
+    throw InputError("--thickness: must be a finite number >= 0 (got " +
+                     number_text(o.thickness) + ")");
+  }
+  if (o.max_break_time && !std::isfinite(*o.max_break_time)) {
+    throw InputError("--max-break-time: must be a finite number of seconds (got " +
+                     number_text(*o.max_break_time) + ")");
   }
   if (!(o.merge_tolerance >= 0 && o.merge_tolerance <= 0.5)) {
     throw InputError("--merge-tolerance: must be in [0, 0.5] (got " +
-                     format_number(o.merge_tolerance) + ")");
+                     number_text(o.merge_tolerance) + ")");
   }
   if (o.min_disks < 1) {
     throw InputError("--min-disks: must be >= 1 (got " + std::to_string(o.min_disks) + ")");
@@ -555,17 +600,77 @@ std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::
   const bool many = o.all;
   const std::string extension = o.analysis == Analysis::Cracks ? ".vtp" : ".vtu";
   const fs::path frame_folder = base + "_frames";
-  if (many && !o.csv_only) {
-    std::error_code ec;
-    fs::create_directories(frame_folder, ec);
-    if (ec)
-      throw InputError(frame_folder.string() + ": cannot create the folder (" + ec.message() + ")");
+  const auto frame_name = [&](std::size_t k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06zu", k);
+    return std::string(name) + extension;
+  };
+  // No output may replace one of the command's inputs (the .pvd or .vtu given, or a frame
+  // of the series): compared by device and inode, so that links and "./" are seen through.
+  {
+    std::map<std::pair<dev_t, ino_t>, std::string> inputs;
+    const auto identity = [](const std::string& path, std::pair<dev_t, ino_t>& id) {
+      struct stat st {};
+      if (::stat(path.c_str(), &st) != 0) return false;
+      id = {st.st_dev, st.st_ino};
+      return true;
+    };
+    std::pair<dev_t, ino_t> id;
+    if (identity(o.input, id)) inputs.emplace(id, o.input);
+    for (const SeriesFrame& f : frames)
+      if (identity(f.path, id)) inputs.emplace(id, f.path);
+    std::vector<std::string> outputs;
+    if (!o.csv_only) {
+      if (many) {
+        for (std::size_t k = 0; k < selected.size(); ++k)
+          outputs.push_back((frame_folder / frame_name(k)).string());
+        outputs.push_back(base + ".pvd");
+      } else {
+        outputs.push_back(base + extension);
+      }
+    }
+    outputs.push_back(base + ".csv");
+    for (const std::string& output : outputs) {
+      const auto hit = identity(output, id) ? inputs.find(id) : inputs.end();
+      if (hit != inputs.end()) {
+        throw InputError("-o: the output " + output + " would overwrite the input " +
+                         hit->second + "; choose another -o");
+      }
+    }
   }
 
+  // On failure nothing is left behind: the files written so far are removed, and the frame
+  // folder when this command created it.
+  std::vector<std::string> written;
+  bool created_folder = false;
+  try {
+    if (many && !o.csv_only) {
+      std::error_code ec;
+      created_folder = fs::create_directories(frame_folder, ec);
+      if (ec)
+        throw InputError(frame_folder.string() + ": cannot create the folder (" + ec.message() +
+                         ")");
+    }
+    run_frames(o, selected, base, frame_folder, frame_name, extension, out, err, written);
+  } catch (...) {
+    std::error_code ignored;
+    for (const std::string& path : written) fs::remove(path, ignored);
+    if (created_folder) fs::remove(frame_folder, ignored);  // only when empty
+    throw;
+  }
+  return written;
+}
+
+namespace {
+void run_frames(const PostOptions& o, const std::vector<SeriesFrame>& selected,
+                const std::string& base, const fs::path& frame_folder,
+                const std::function<std::string(std::size_t)>& frame_name,
+                const std::string& extension, std::ostream& out, std::ostream& err,
+                std::vector<std::string>& written) {
+  const bool many = o.all;
   VtkMessageSink sink;
   vtkSmartPointer<vtkAlgorithm> filter = make_filter(o);
   Reports reports(filter);
-  std::vector<std::string> written;
   std::set<std::string> warned;
   std::string csv = csv_header_line(summary_header(o));
   std::string summary;
@@ -594,11 +699,8 @@ std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::
     std::string target;
     if (!o.csv_only) {
       if (many) {
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%06zu", k);
-        target = (frame_folder / (std::string(name) + extension)).string();
-        const std::string relative =
-            (fs::path(frame_folder.filename()) / (std::string(name) + extension)).string();
+        target = (frame_folder / frame_name(k)).string();
+        const std::string relative = (fs::path(frame_folder.filename()) / frame_name(k)).string();
         char stamp[40];
         std::snprintf(stamp, sizeof stamp, "%.17g", time);
         pvd += std::string("    <DataSet timestep=\"") + stamp +
@@ -634,7 +736,7 @@ std::vector<std::string> run_post(const PostOptions& o, std::ostream& out, std::
   write_text_atomic(csv_path, csv);
   written.push_back(csv_path);
   if (!o.quiet) out << summary << "  table -> " << csv_path << "\n";
-  return written;
 }
+}  // namespace
 
 }  // namespace hexdem::post

@@ -6,14 +6,21 @@
 
 #include "vtu_check.hpp"
 
+#include <vtkAbstractArray.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
 
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -486,6 +493,80 @@ void check_grid(const std::string& path, vtkUnstructuredGrid* grid) {
       fail(path, "cell connectivity refers to point " + std::to_string(static_cast<long long>(id)) +
                      ", which does not exist");
   }
+}
+
+namespace {
+
+std::string number_text(double v) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
+/// Throws unless every value of `array` passes `ok`; `expected` says what passes.
+template <typename Ok>
+void check_array(const std::string& path, const std::string& what, vtkDataArray* array, Ok ok,
+                 const std::string& expected) {
+  const int nc = array->GetNumberOfComponents();
+  const vtkIdType nt = array->GetNumberOfTuples();
+  for (vtkIdType t = 0; t < nt; ++t) {
+    for (int c = 0; c < nc; ++c) {
+      const double v = array->GetComponent(t, c);
+      if (!ok(v)) {
+        fail(path, what + " holds " + number_text(v) + " at tuple " + std::to_string(t) +
+                       (nc > 1 ? ", component " + std::to_string(c) : std::string()) + " (" +
+                       expected + ")");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void check_frame_values(const std::string& path, vtkUnstructuredGrid* grid) {
+  const auto finite = [](double v) { return std::isfinite(v); };
+  const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0; };
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  if (grid->GetPoints() && grid->GetPoints()->GetData())
+    check_array(path, "the 'Points' array", grid->GetPoints()->GetData(), finite,
+                "expected a finite number");
+  vtkAbstractArray* names = grid->GetFieldData()->GetAbstractArray("body_names");
+  const vtkIdType bodies = names && !vtkDataArray::SafeDownCast(names) ? names->GetNumberOfValues() : -1;
+  const auto check_group = [&](vtkFieldData* data, const std::string& kind) {
+    for (int k = 0; k < data->GetNumberOfArrays(); ++k) {
+      vtkDataArray* array = vtkDataArray::SafeDownCast(data->GetAbstractArray(k));
+      if (!array || !array->GetName()) continue;
+      const std::string name = array->GetName();
+      const std::string what = kind + " array '" + escape_text(name.substr(0, 60)) + "'";
+      if (kind == "point" && (name == "radius" || name == "mass")) {
+        check_array(path, what, array, positive, "expected a finite number > 0");
+      } else if ((kind == "point" && (name == "cell_area" || name == "ring_radius")) ||
+                 (kind == "field" && (name == "thickness" || name == "p_max"))) {
+        check_array(path, what, array, non_negative, "expected a finite number >= 0");
+        if (name == "p_max" && array->GetNumberOfValues() > 0 &&
+            !std::isfinite(1.0 / array->GetComponent(0, 0)) && array->GetComponent(0, 0) != 0)
+          fail(path, what + " holds " + number_text(array->GetComponent(0, 0)) +
+                         " (too small: 1/p_max overflows)");
+      } else if (kind == "cell" && name == "state") {
+        check_array(path, what, array, [](double v) { return v >= 0 && v <= 5 && v == std::floor(v); },
+                    "expected an integer code 0 to 5");
+      } else if (kind == "point" && name == "body") {
+        check_array(path, what, array,
+                    [&](double v) {
+                      return v >= 0 && v == std::floor(v) && v <= 2147483647.0 &&
+                             (bodies < 0 || v < static_cast<double>(bodies));
+                    },
+                    bodies < 0 ? std::string("expected a body index >= 0")
+                               : "expected a body index 0 to " + std::to_string(bodies - 1) +
+                                     ": the frame names " + std::to_string(bodies) + " bodies");
+      } else {
+        check_array(path, what, array, finite, "expected a finite number");
+      }
+    }
+  };
+  check_group(grid->GetPointData(), "point");
+  check_group(grid->GetCellData(), "cell");
+  check_group(grid->GetFieldData(), "field");
 }
 
 }  // namespace hexdem::post

@@ -36,4 +36,11 @@ void check_vtu_file(const std::string& path);
 /// point id inside the points. Throws InputError naming the file.
 void check_grid(const std::string& path, vtkUnstructuredGrid* grid);
 
+/// Checks the values of a frame against the frame contract (docs/filters.md, section 1): no
+/// NaN or infinite number in the points or in any numeric point, cell or field array;
+/// `radius` and `mass` > 0, `cell_area`, `thickness` and `p_max` >= 0 (and 1/p_max finite);
+/// `state` an integer code 0 to 5; `body` an integer index into `body_names`. Throws
+/// InputError naming the file, the array and the first bad value.
+void check_frame_values(const std::string& path, vtkUnstructuredGrid* grid);
+
 }  // namespace hexdem::post
