@@ -1,8 +1,12 @@
 // End-to-end tests of the researcher's workflow: checkpoint and restart (`[output]
 // checkpoint_interval`, `hexdem run --restart`), overrides (`--set`) and the effective case,
 // `hexdem check`, and parameter studies (`hexdem sweep`).
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 
 #include <cstdint>
@@ -11,6 +15,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli_runner.hpp"
@@ -662,6 +667,240 @@ TEST(Sweep, BadStudiesAreRefusedBeforeAnythingRuns) {
     EXPECT_NE(r.err.find(message), std::string::npos) << text << "\n" << r.err;
     EXPECT_FALSE(fs::exists(d / "out")) << "nothing written for a refused study";
   }
+}
+
+/// A study of the plate with short members and no frames or checkpoints.
+fs::path short_study(const fs::path& d, const std::string& name, const std::string& parameters,
+                     const std::string& outputs = "[\"kinetic\", \"elastic\"]") {
+  write(d, "plate.toml", plate_case("plane-stress"));
+  return write(d, name, "[study]\ncase = \"plate.toml\"\noutputs = " + outputs +
+                            "\nset = [\"time.end=2e-6\", \"output.frames=false\", \"output.checkpoint_interval=0\"]\n" +
+                            parameters);
+}
+
+TEST(Sweep, EachMemberIsReadUnderItsOwnCaseName) {
+  // A study that varies case.name: member k writes <its name>.summary.csv, and the table
+  // takes its values from there (it read plate.summary.csv, and had empty outputs).
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path study = short_study(d, "names.toml", "[[parameter]]\nkey = \"case.name\"\nvalues = [\"a\", \"b\"]\n");
+  const Result r = run_hexdem(d, "sweep " + study.string() + " -q -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  const std::vector<std::string> rows = lines(slurp(d / "out" / "names.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  const auto a = read_row(d / "out" / "member-001" / "a.summary.csv");
+  const auto b = read_row(d / "out" / "member-002" / "b.summary.csv");
+  EXPECT_EQ(rows[1], "1,\"\"\"a\"\"\",0," + a.at("kinetic") + "," + a.at("elastic"));
+  EXPECT_EQ(rows[2], "2,\"\"\"b\"\"\",0," + b.at("kinetic") + "," + b.at("elastic"));
+  EXPECT_NE(rows[1].substr(rows[1].size() - 2), ",,") << rows[1];
+}
+
+TEST(Sweep, CollectCountsAMemberWithoutAWholeSummaryAsFailed) {
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path study =
+      short_study(d, "bad.toml", "[[parameter]]\nkey = \"load.0.p0\"\nvalues = [1e6, 2e6, 3e6, 4e6, 5e6]\n");
+  Result r = run_hexdem(d, "sweep " + study.string() + " -q -o " + (d / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path out = d / "out";
+  // Exit code 0, but the summary is missing, only a header, or a short row; and a summary
+  // without an exit code (the member's task did not end).
+  fs::remove(out / "member-001" / "plate.summary.csv");
+  const std::string header = lines(slurp(out / "member-002" / "plate.summary.csv"))[0];
+  write(out / "member-002", "plate.summary.csv", header + "\n");
+  write(out / "member-003", "plate.summary.csv", header + "\n1,2,3\n");
+  fs::remove(out / "member-005" / "exit_code");
+  r = run_hexdem(d, "sweep " + study.string() + " --collect -o " + out.string());
+  EXPECT_EQ(r.code, 4) << "not every member ran to its end: " << r.out << r.err;
+  EXPECT_NE(r.out.find("1 of 5 members ran to the end"), std::string::npos) << r.out;
+  EXPECT_EQ(count_lines(r.err), 3) << r.err;
+  EXPECT_NE(r.err.find("member-001: exit code 0, but its summary " + (out / "member-001" / "plate.summary.csv").string() +
+                       " is missing"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("member-002: exit code 0, but its summary"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("member-003: exit code 0, but its summary"), std::string::npos) << r.err;
+  const std::vector<std::string> rows = lines(slurp(out / "bad.csv"));
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[1], "1,1e+06,0,,");
+  EXPECT_EQ(rows[2], "2,2e+06,0,,");
+  EXPECT_EQ(rows[3], "3,3e+06,0,,");
+  EXPECT_EQ(rows[4].rfind("4,4e+06,0,", 0), 0u);
+  EXPECT_GT(rows[4].size(), std::string("4,4e+06,0,,").size()) << rows[4];
+  EXPECT_EQ(rows[5], "5,5e+06,-1,,") << "a member without an exit code has not run: no values";
+}
+
+TEST(Sweep, ARerunLeavesNoStaleOutputsOfAMemberRefusedAtSetUp) {
+  const fs::path d = test_dir("cli_workflow", true);
+  fs::path study = short_study(d, "steps.toml", "[[parameter]]\nkey = \"time.dt\"\nvalues = [1e-7, 5e-8]\n");
+  Result r = run_hexdem(d, "sweep " + study.string() + " -q -o " + (d / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(d / "out" / "member-002" / "plate.summary.csv"));
+  // The same study again, member 2 now above the critical step: refused at set-up (exit 2),
+  // it writes nothing, and the previous run's values must not appear in its row.
+  study = short_study(d, "steps.toml", "[[parameter]]\nkey = \"time.dt\"\nvalues = [1e-7, 1e-6]\n");
+  r = run_hexdem(d, "sweep " + study.string() + " -q -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 4) << r.err;
+  EXPECT_EQ(slurp(d / "out" / "member-002" / "exit_code"), "2\n");
+  const std::vector<std::string> rows = lines(slurp(d / "out" / "steps.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[2], "2,1e-06,2,,") << "no values for a member refused at set-up";
+  for (const char* f : {"plate.summary.csv", "plate.status", "plate.case.toml"})
+    EXPECT_FALSE(fs::exists(d / "out" / "member-002" / f)) << f << ": the previous run's file is left";
+  // A job array's line removes them too before the run.
+  const std::vector<std::string> commands = lines(slurp(d / "out" / "commands.txt"));
+  ASSERT_EQ(commands.size(), 2u);
+  EXPECT_NE(commands[1].find("rm -f " + (d / "out" / "member-002" / "exit_code").string() + " " +
+                             (d / "out" / "member-002" / "plate.summary.csv").string()),
+            std::string::npos)
+      << commands[1];
+}
+
+/// Starts `hexdem ARGS` in its own process group with its output in files of `dir`.
+pid_t start_hexdem(const fs::path& dir, const std::vector<std::string>& args) {
+  std::vector<std::string> all{HEXDEM_BINARY};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string out = (dir / "stdout.txt").string(), err = (dir / "stderr.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::setpgid(0, 0);
+    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(o, 1);
+    ::dup2(e, 2);
+    ::execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// The child process of `pid` (waits up to 30 s for one to start); 0 if none.
+pid_t child_of(pid_t pid) {
+  const fs::path children = "/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/children";
+  for (int k = 0; k < 3000; ++k) {
+    std::ifstream in(children);
+    pid_t child = 0;
+    if (in >> child && child > 0) return child;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return 0;
+}
+
+/// A study of one long plate run per member (some 20 s each), two members one at a time.
+fs::path long_study(const fs::path& d, const std::string& values) {
+  write(d, "plate.toml", plate_case("plane-stress"));
+  return write(d, "long.toml",
+               "[study]\ncase = \"plate.toml\"\noutputs = [\"kinetic\"]\n"
+               "set = [\"time.end=0.1\", \"output.frames=false\", \"output.checkpoint_interval=0\"]\n"
+               "[[parameter]]\nkey = \"load.0.p0\"\nvalues = " +
+                   values + "\n");
+}
+
+TEST(Sweep, ASignalIsForwardedToTheRunningMemberAndRecorded) {
+  // SIGTERM to the sweep alone: the running member stops too (it ran on as an orphan and had
+  // no exit code), the sweep records its exit code 143, starts no other member, writes the
+  // table and ends by SIGTERM.
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path study = long_study(d, "[1e6, 2e6]");
+  const pid_t sweep = start_hexdem(d, {"sweep", study.string(), "--jobs", "1", "-j", "1", "-o", (d / "out").string()});
+  ASSERT_GT(sweep, 0);
+  const pid_t member = child_of(sweep);
+  ASSERT_GT(member, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(sweep, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(sweep, &status, 0), sweep);
+  const bool member_left = ::kill(member, 0) == 0;
+  if (member_left) ::kill(member, SIGKILL);  // the orphan of a broken sweep
+  EXPECT_FALSE(member_left) << "the member runs on after the sweep ended";
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << "status " << status;
+  EXPECT_EQ(slurp(d / "out" / "member-001" / "exit_code"), "143\n");
+  EXPECT_FALSE(fs::exists(d / "out" / "member-002" / "exit_code")) << "no member starts after the signal";
+  const std::string err = slurp(d / "stderr.txt");
+  EXPECT_NE(err.find("interrupted by SIGTERM: 1 running member(s) stopped, 1 not run"), std::string::npos) << err;
+  const std::vector<std::string> rows = lines(slurp(d / "out" / "long.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[1], "1,1e+06,143,");
+  EXPECT_EQ(rows[2], "2,2e+06,-1,");
+  // --collect reads the same.
+  const Result c = run_hexdem(d, "sweep " + study.string() + " --collect -q -o " + (d / "out").string());
+  EXPECT_EQ(c.code, 4) << c.err;
+}
+
+TEST(Sweep, AMemberThatCrashesIsAnInternalError) {
+  // A member killed by SIGSEGV (exit code 139 as a shell reports it) met an internal error:
+  // the sweep exits 1 (it exited 4, as for a numerical failure).
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path study = long_study(d, "[1e6]");
+  const pid_t sweep = start_hexdem(d, {"sweep", study.string(), "-j", "1", "-o", (d / "out").string()});
+  ASSERT_GT(sweep, 0);
+  const pid_t member = child_of(sweep);
+  ASSERT_GT(member, 0);
+  ::kill(member, SIGSEGV);
+  int status = 0;
+  ASSERT_EQ(::waitpid(sweep, &status, 0), sweep);
+  ASSERT_TRUE(WIFEXITED(status)) << status;
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_EQ(slurp(d / "out" / "member-001" / "exit_code"), "139\n");
+  EXPECT_NE(slurp(d / "stdout.txt").find("1 met an internal error or crashed"), std::string::npos)
+      << slurp(d / "stdout.txt");
+  const Result c = run_hexdem(d, "sweep " + study.string() + " --collect -q -o " + (d / "out").string());
+  EXPECT_EQ(c.code, 1) << c.err;
+}
+
+TEST(Sweep, OutputFolderAndCaseProblemsAreInputErrors) {
+  // These were "internal error" (exit 1).
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path study = short_study(d, "s.toml", "[[parameter]]\nkey = \"load.0.p0\"\nvalues = [1e6]\n");
+  const fs::path file = write(d, "afile", "x\n");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"-o " + file.string(), file.string() + ": cannot create the output folder (a file of that name exists)"},
+      {"-o " + (file / "sub").string() + " --dry-run", (file / "sub").string() + ": cannot create the output folder ("},
+      {"-o /proc/hexdem-sweep-test", "/proc/hexdem-sweep-test: cannot create the output folder ("},
+      {"-o ''", "-o: expected an output folder (got \"\")"},
+  };
+  for (const auto& [options, message] : cases) {
+    const Result r = run_hexdem(d, "sweep " + study.string() + " " + options);
+    EXPECT_EQ(r.code, 2) << options << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << options << "\n" << r.err;
+  }
+  EXPECT_EQ(slurp(file), "x\n");
+  const fs::path empty = write(d, "empty.toml", "[study]\ncase = \"\"\n[[parameter]]\nkey = \"time.end\"\nvalues = [1e-6]\n");
+  const Result r = run_hexdem(d, "sweep " + empty.string() + " -o " + (d / "out").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("empty.toml:2: study.case: expected the path of the case file (got \"\")"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
+TEST(Sweep, StudyNameMustBeAPlainFileNameStem) {
+  const fs::path d = test_dir("cli_workflow", true);
+  write(d, "plate.toml", plate_case("plane-stress"));
+  const std::string tail = "[[parameter]]\nkey = \"time.end\"\nvalues = [1e-6]\n";
+  const std::vector<std::pair<std::string, std::string>> names{
+      {"a\\nb", "must not hold control characters (got \"a\\nb\")"},
+      {"..", "must be a plain file name stem, not '.' or '..' (got \"..\")"},
+      {".", "must be a plain file name stem, not '.' or '..' (got \".\")"},
+      {".hidden", "must not start with '.'"},
+      {"", "must not be empty"},
+      {"a/b", "must be a plain file name stem, without '/'"},
+  };
+  for (const auto& [name, message] : names) {
+    const fs::path study = write(d, "study.toml", "[study]\ncase = \"plate.toml\"\nname = \"" + name + "\"\n" + tail);
+    const Result r = run_hexdem(d, "sweep " + study.string() + " -o " + (d / "out").string());
+    EXPECT_EQ(r.code, 2) << name << "\n" << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("study.toml:3: study.name: " + message), std::string::npos) << name << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(d / "out")) << name;
+  }
+  // The default name, the study file's stem, is checked too: "..toml" has the stem ".".
+  const fs::path dots = write(d, "..toml", "[study]\ncase = \"plate.toml\"\n" + tail);
+  const Result r = run_hexdem(d, "sweep " + dots.string() + " --dry-run");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("the study file's stem \".\" does not make a study name"), std::string::npos) << r.err;
 }
 
 }  // namespace
