@@ -813,11 +813,19 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
       throw InputError(outline.source + ": boundary set name '" + escape_text(name) +
                        "' must not be empty or hold control characters");
     }
+    if (has_csv_special(name)) {  // a DXF layer (a TOML outline refuses it where it names it)
+      throw InputError(outline.source + ": boundary set (layer) name '" + escape_text(name) +
+                       "' must not hold a comma or a double quote (it names CSV columns); rename the layer");
+    }
   }
   for (const BodyOutline& body : outline.bodies) {
     if (body.name.empty() || has_control_character(body.name)) {
       throw InputError(body.where + ": body name '" + escape_text(body.name) +
                        "' must not be empty or hold control characters");
+    }
+    if (has_csv_special(body.name)) {
+      throw InputError(body.where + ": body name '" + escape_text(body.name) +
+                       "' must not hold a comma or a double quote (it names CSV columns)");
     }
   }
   if (options.max_disks < 1) {
@@ -884,6 +892,33 @@ Lattice generate_lattice(const Outline& outline, const GeneratorOptions& options
     k = e;
   }
   for (std::size_t s = 0; s < lat.set_names.size(); ++s) lat.set_offset[s + 1] += lat.set_offset[s];
+
+  // A disk without a bond in a body of several disks is loose debris the outline did not ask
+  // for: a feature narrower than the lattice (docs/outline-format.md, "Features narrower than
+  // the lattice"). Refused, like a region no disk fits.
+  {
+    std::vector<std::uint8_t> bonded(lat.num_disks(), 0);
+    for (std::size_t b = 0; b < lat.num_bonds(); ++b) {
+      bonded[static_cast<std::size_t>(lat.bond_i[b])] = 1;
+      bonded[static_cast<std::size_t>(lat.bond_j[b])] = 1;
+    }
+    std::vector<std::int64_t> per_body(lat.body_names.size(), 0), loose(lat.body_names.size(), 0);
+    std::vector<std::size_t> first_loose(lat.body_names.size(), 0);
+    for (std::size_t k = 0; k < lat.num_disks(); ++k) {
+      const auto b = static_cast<std::size_t>(lat.body[k]);
+      ++per_body[b];
+      if (!bonded[k] && loose[b]++ == 0) first_loose[b] = k;
+    }
+    for (std::size_t b = 0; b < per_body.size(); ++b) {
+      if (loose[b] == 0 || per_body[b] < 2) continue;
+      const std::size_t k = first_loose[b];
+      throw InputError(outline.bodies[b].where + ": " + std::to_string(loose[b]) + " of the body's " +
+                       std::to_string(per_body[b]) + " disks have no bond to any other disk (the first at (" +
+                       fmt(lat.x[k]) + ", " + fmt(lat.y[k]) + ") m, radius " + fmt(lat.radius[k]) +
+                       " m): a part of the outline is narrower than the lattice and would be loose debris; use "
+                       "a smaller radius or widen the part");
+    }
+  }
 
   report.disks = static_cast<std::int64_t>(lat.num_disks());
   report.bonds = static_cast<std::int64_t>(lat.num_bonds());

@@ -121,6 +121,9 @@ const toml::array& Reader::table_array(const toml::node& node, const std::string
 /// A boundary name: "" is no set (-1).
 std::int32_t Reader::boundary(const toml::node& node, const std::string& path) {
   const std::string set = name(node, path);
+  if (has_csv_special(set))
+    fail(node, path, "a boundary set name must not hold a comma or a double quote (it names CSV columns) (got " +
+                         describe(node) + ")");
   return set.empty() ? -1 : outline_.boundary_index(set);
 }
 
@@ -182,6 +185,9 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
   const toml::node& name = required(table, "name", path);
   body.name = TomlValues::name(name, path + ".name");
   if (body.name.empty()) fail(name, path + ".name", "must not be empty");
+  if (has_csv_special(body.name))
+    fail(name, path + ".name",
+         "a body name must not hold a comma or a double quote (it names CSV columns) (got " + describe(name) + ")");
   for (const BodyOutline& other : outline_.bodies) {
     if (other.name == body.name)
       fail(name, path + ".name", "duplicate body name (got " + describe(name) + ")");

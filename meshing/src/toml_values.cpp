@@ -144,6 +144,11 @@ toml::table parse_toml(std::string_view text, const std::string& source_name) {
 std::string read_text_file(const std::string& path, std::size_t max_bytes) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": is a folder, not a file");
+  // A FIFO would block the open for ever, a device would be read as text: only regular files
+  // (or links to them) are inputs. A missing file is reported by the open below.
+  if (const auto st = std::filesystem::status(path, ec); !ec && std::filesystem::exists(st) &&
+                                                         !std::filesystem::is_regular_file(st))
+    throw InputError(path + ": not a regular file (a FIFO, device or socket); give a file");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open file");
   std::string contents;

@@ -18,7 +18,10 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
+#include <cmath>
+#include <cstdlib>
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
@@ -55,6 +58,63 @@ struct MeshArgs {
 /// Most OpenMP threads `-j` accepts: libgomp fails (and crashes) creating a hundred thousand.
 constexpr int kMaxThreads = 1024;
 
+/// Most OpenMP threads on this machine: 4 x its hardware threads (at most kMaxThreads). Each
+/// thread reserves a stack: 1024 of them under a 4 GB address-space limit failed in libgomp,
+/// and OMP_NUM_THREADS=100000 crashed it (docs/case-format.md, "Threads").
+int machine_max_threads() {
+  const unsigned hw = std::thread::hardware_concurrency();
+  return static_cast<int>(std::min<long>(kMaxThreads, 4L * std::max(1U, hw)));
+}
+
+/// Refuses (InputError) a thread count above machine_max_threads(): `-j N` given, else the
+/// environment's OMP_NUM_THREADS (each of its comma-separated levels), which libgomp would use.
+void check_thread_count(int j) {
+  const int limit = machine_max_threads();
+  const std::string bound = std::to_string(limit) + " (4 x the " + std::to_string(std::thread::hardware_concurrency()) +
+                            " hardware threads of this machine, at most " + std::to_string(kMaxThreads) + ")";
+  if (j > 0) {
+    if (j > limit) throw InputError("-j " + std::to_string(j) + ": more threads than " + bound);
+    return;
+  }
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (env == nullptr) return;
+  const std::string value(env);
+  std::size_t at = 0;
+  while (at <= value.size()) {
+    std::size_t end = value.find(',', at);
+    if (end == std::string::npos) end = value.size();
+    std::string level = value.substr(at, end - at);
+    level.erase(0, level.find_first_not_of(" \t"));
+    level.erase(level.find_last_not_of(" \t") + 1);
+    // Only whole numbers: anything else libgomp itself ignores with a warning.
+    if (!level.empty() && std::all_of(level.begin(), level.end(), [](unsigned char ch) { return std::isdigit(ch); })) {
+      if (level.size() > 9 || std::stol(level) > limit)
+        throw InputError("OMP_NUM_THREADS=" + meshing::escape_text(value) + ": more threads than " + bound +
+                         "; lower it or give -j");
+    }
+    at = end + 1;
+  }
+}
+
+/// Refuses (InputError) an input that is not a regular file before it is opened: a FIFO
+/// would block the open for ever.
+void require_regular_file(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!ec && fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(path + ": " + what + " is not a regular file (a folder, FIFO, device or socket)");
+}
+
+/// Whether `output` names the same file as `input` (the same path, or a link to it).
+bool same_file(const std::string& input, const std::string& output) {
+  std::error_code ec;
+  if (fs::equivalent(input, output, ec) && !ec) return true;
+  const fs::path a = fs::weakly_canonical(input, ec);
+  if (ec) return false;
+  const fs::path b = fs::weakly_canonical(output, ec);
+  return !ec && a == b;
+}
+
 /// `hexdem: error: MESSAGE` on one line (control characters of quoted input escaped).
 /// A count option's check: a whole number >= 1 (CLI::PositiveNumber's message printed its
 /// range up to the largest double, all 309 digits of it).
@@ -81,6 +141,12 @@ std::string lower_extension(const std::string& path) {
 int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
   const auto t0 = std::chrono::steady_clock::now();
   if (a.threads > 0) omp_set_num_threads(a.threads);
+  {
+    const std::string out = a.output.empty() ? fs::path(a.outline).stem().string() + ".vtu" : a.output;
+    if (same_file(a.outline, out))
+      throw InputError(out + ": the output is the outline itself (" + a.outline +
+                       "); writing it would destroy the input: give another -o");
+  }
 
   meshing::ReadOptions ro;
   if (cmd.count("--radius")) {
@@ -111,6 +177,12 @@ int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
   go.max_disks = a.max_disks;
   meshing::GeneratorReport rep;
   const meshing::Lattice lattice = meshing::generate_lattice(outline, go, &rep);
+  // A scale so small that the cells' areas underflow (--scale 1e-300) gives a lattice of
+  // nothing: refused, as no disk fitting is.
+  if (!(rep.cell_area_sum > 0) || !std::isfinite(rep.cell_area_sum))
+    throw InputError(a.outline + ": the cells' total area is " + meshing::format_number(rep.cell_area_sum) +
+                     " m^2" + (cmd.count("--scale") ? " (--scale " + meshing::format_number(a.scale) + ")" : std::string()) +
+                     ": the outline's size in metres is out of range; check --scale and the units");
 
   std::string out = a.output;
   if (out.empty()) out = fs::path(a.outline).stem().string() + ".vtu";
@@ -153,6 +225,7 @@ struct RunArgs {
 };
 
 int run_run(const RunArgs& a) {
+  if (!a.restart.empty()) require_regular_file(a.restart, "the checkpoint (--restart)");
   solver::Case c = solver::read_case(a.case_file, a.sets);
   if (a.max_disks) c.max_disks = *a.max_disks;
   for (const std::string& w : c.warnings) std::cerr << "hexdem: warning: " << w << "\n";
@@ -230,6 +303,11 @@ int main(int argc, char** argv) {
   }
 
   try {
+    // The thread count before any OpenMP region starts them (sweep members get -j, bench its
+    // own --threads).
+    if (*mesh_cmd) check_thread_count(mesh.threads);
+    else if (*run_cmd) check_thread_count(run.threads);
+    else if (!*sweep.cmd && !*bench.cmd) check_thread_count(0);
     if (*mesh_cmd) return run_mesh(mesh, *mesh_cmd);
     if (*run_cmd) return run_run(run);
     if (*check.cmd) return check.run();

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 #include "hexdem/error.hpp"
@@ -66,6 +67,16 @@ std::uint8_t held_components(const BoundaryCondition& bc) {
   return 0;
 }
 
+const char* boundary_kind_name(BoundaryCondition::Kind k) {
+  switch (k) {
+    case BoundaryCondition::Kind::Fixed: return "fixed";
+    case BoundaryCondition::Kind::Roller: return "roller";
+    case BoundaryCondition::Kind::Symmetry: return "symmetry";
+    case BoundaryCondition::Kind::Velocity: return "velocity";
+  }
+  return "?";
+}
+
 }  // namespace
 
 using detail::fmt;
@@ -73,7 +84,30 @@ using detail::fmt;
 void Solver::setup_boundaries() {
   const std::size_t n = model_.num_disks();
   std::vector<std::int32_t> owner(n, -1);  // the velocity set that prescribes each disk
-  for (const BoundaryCondition& bc : case_.boundaries) {
+  // Per disk and velocity component, the [[boundary]] entry that holds it at zero (fixed,
+  // roller, symmetry) and the one that prescribes it (velocity), for the refusal of
+  // contradictory conditions (docs/case-format.md, "Conditions on the same disks").
+  // Kept for the sets' disks only (a map: per-disk arrays were 16 bytes per disk of the
+  // set-up's peak memory for the few per cent of the disks that sets hold).
+  struct Holders {
+    std::array<std::int32_t, 2> zero{-1, -1}, velocity{-1, -1};
+  };
+  std::unordered_map<std::size_t, Holders> holders;
+  const auto contradiction = [&](std::int32_t a, std::int32_t b, int c, std::size_t i, const char* why) {
+    const BoundaryCondition& first = case_.boundaries[static_cast<std::size_t>(a)];
+    const BoundaryCondition& second = case_.boundaries[static_cast<std::size_t>(b)];
+    const bool axi = case_.geometry == Geometry::Axisymmetric;
+    const std::string comp = c == 0 ? (axi ? "r" : "x") : (axi ? "z" : "y");
+    return InputError(second.where + ": " + boundary_kind_name(second.kind) + " condition on set '" + second.set +
+                      "' contradicts " + first.where + " (" + boundary_kind_name(first.kind) + " on set '" +
+                      first.set + "') in the " + comp + " velocity component of the disk at (" +
+                      fmt(model_.x0[i]) + ", " + fmt(model_.y0[i]) + ") m: " + why +
+                      "; remove one of them or split the sets (docs/case-format.md, \"Conditions on the same "
+                      "disks\")");
+  };
+  for (std::size_t k = 0; k < case_.boundaries.size(); ++k) {
+    const BoundaryCondition& bc = case_.boundaries[k];
+    const auto self = static_cast<std::int32_t>(k);
     const int s = lattice_.find_set(bc.set);
     if (s < 0) throw InputError(bc.where + ": unknown boundary set '" + bc.set + "'");
     VelocitySet vs{&bc, {}};
@@ -87,8 +121,32 @@ void Solver::setup_boundaries() {
       }
       if (!held_by_set(lattice_, e, model_.radius[i])) continue;
       ++held;
+      const std::uint8_t comps = held_components(bc);
+      const bool prescribes = bc.kind == BoundaryCondition::Kind::Velocity;
+      auto& zero_by = holders[i].zero;
+      auto& velocity_by = holders[i].velocity;
+      for (int c = 0; c < 2; ++c) {
+        if (!(comps & (c == 0 ? kFixX : kFixY))) continue;
+        if (prescribes) {
+          if (zero_by[c] >= 0) throw contradiction(zero_by[c], self, c, i, "it cannot be both held at zero and prescribed");
+          if (velocity_by[c] >= 0 && velocity_by[c] != self)
+            throw contradiction(velocity_by[c], self, c, i, "two velocity conditions prescribe it");
+          velocity_by[c] = self;
+        } else {
+          if (velocity_by[c] >= 0) throw contradiction(velocity_by[c], self, c, i, "it cannot be both prescribed and held at zero");
+          if (zero_by[c] < 0) zero_by[c] = self;
+        }
+      }
+      // A disk takes the prescribed velocities of one velocity condition (update_velocities):
+      // two on its two components would leave one of them held at zero.
+      if (prescribes)
+        for (int c = 0; c < 2; ++c)
+          if (velocity_by[c] >= 0 && velocity_by[c] != self)
+            throw contradiction(velocity_by[c], self, c, i,
+                                "a disk may be prescribed by one velocity condition only (give vx and vy in one "
+                                "[[boundary]] entry)");
       std::uint8_t& bits = model_.constraint[i];
-      bits |= held_components(bc);
+      bits |= comps;
       switch (bc.kind) {
         case BoundaryCondition::Kind::Fixed:
           if (bc.fix_rotation) bits |= kFixRotation;
@@ -121,7 +179,7 @@ void Solver::setup_boundaries() {
     if (bc.kind == BoundaryCondition::Kind::Velocity) velocity_sets_.push_back(std::move(vs));
     if (bc.kind == BoundaryCondition::Kind::Symmetry) setup_mirror_springs(bc, s);
   }
-  // A disk in several velocity sets takes the last one.
+  // A disk in several velocity sets was refused above; this keeps each disk in one set.
   for (std::size_t s = 0; s < velocity_sets_.size(); ++s) {
     auto& d = velocity_sets_[s].disks;
     d.erase(std::remove_if(d.begin(), d.end(), [&](std::int32_t i) { return owner[i] != static_cast<std::int32_t>(s); }),

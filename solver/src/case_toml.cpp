@@ -214,6 +214,10 @@ constexpr std::array<Key<Case>, 4> kCaseKeys{{
                  "not allowed in axisymmetric mode (quantities are per radian) (got " +
                      describe(v) + ")");
        c.thickness = in.positive(v, p);
+       // Beyond these the masses and energies (thickness^2 in the energy check) underflow or
+       // overflow a double: the run would fail at its first step as a numerical blow-up.
+       if (!(c.thickness >= 1e-100 && c.thickness <= 1e100))
+         in.fail(v, p, "must lie in [1e-100, 1e100] m (got " + describe(v) + ")");
      }},
     {"shear_model", false,
      [](const auto& in, const auto& v, const auto& p, auto& c) {
@@ -755,6 +759,12 @@ void Reader::read_outline(toml::table& root, const MeshSettings& mesh, Case& c) 
     std::filesystem::path file(mesh.outline_file);
     if (file.is_relative() && !base_dir_.empty()) file = std::filesystem::path(base_dir_) / file;
     const std::string path = file.lexically_normal().string();
+    std::error_code ec;
+    if (const auto st = std::filesystem::status(path, ec); !ec && std::filesystem::exists(st) &&
+                                                           !std::filesystem::is_regular_file(st) && !std::filesystem::is_directory(st))
+      fail(*mesh.outline, "mesh.outline",
+           "outline file '" + path + "' is not a regular file (a FIFO, device or socket) (got " +
+               describe(*mesh.outline) + ")");
     if (!std::ifstream(path))
       fail(*mesh.outline, "mesh.outline",
            "cannot open outline file '" + path + "' (got " + describe(*mesh.outline) + ")");
@@ -960,9 +970,13 @@ void Reader::read_loads(const toml::table& root, Case& c) const {
     } else {
       read_keys(t, path, Keys<Load>(kBodyForceKeys), load, context);
       if (const toml::node* bodies = t.get("bodies"))
-        for (std::size_t k = 0; k < load.bodies.size(); ++k)
-          check_body(c, load.bodies[k], *bodies->as_array()->get(k),
-                     item(child(path, "bodies"), k));
+        for (std::size_t k = 0; k < load.bodies.size(); ++k) {
+          const toml::node& at = *bodies->as_array()->get(k);
+          check_body(c, load.bodies[k], at, item(child(path, "bodies"), k));
+          if (std::find(load.bodies.begin(), load.bodies.begin() + static_cast<std::ptrdiff_t>(k), load.bodies[k]) !=
+              load.bodies.begin() + static_cast<std::ptrdiff_t>(k))
+            fail(at, item(child(path, "bodies"), k), "duplicate body '" + load.bodies[k] + "'");
+        }
     }
     c.loads.push_back(std::move(load));
   });
@@ -1037,6 +1051,11 @@ void Reader::read_probes(const toml::table& root, Case& c) const {
     Probe probe;
     read_keys(t, path, Keys<Probe>(kProbeKeys), probe);
     probe.where = where(t, path);
+    // An axisymmetric model lies in r >= 0: a probe at r < 0 would record the disk mirrored
+    // across the axis, which the model does not hold.
+    if (c.geometry == Geometry::Axisymmetric && !(probe.point[0] >= 0))
+      fail(*t.get("point"), child(path, "point"),
+           "axisymmetric probes must lie in r >= 0 (got " + describe(*t.get("point")) + ")");
     if (probe.fields.empty()) probe.fields.assign(kProbeFields.begin(), kProbeFields.end());
     for (const Probe& other : c.probes)
       if (other.name == probe.name)

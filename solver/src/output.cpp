@@ -417,19 +417,7 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   std::ostringstream probes_header;
   probes_header << "time,step";
   for (const Probe& p : c.probes) {
-    // The disk nearest to the probe point (reference positions).
-    std::size_t best = 0;
-    double best_d = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < m.num_disks(); ++i) {
-      const double d = std::hypot(m.x0[i] - p.point[0], m.y0[i] - p.point[1]);
-      if (d < best_d) { best_d = d; best = i; }
-    }
-    // A probe outside every body would record a disk far from where it was asked for.
-    if (!(best_d <= 2 * m.radius[best])) {
-      throw InputError(p.where + ": probe '" + p.name + "' selects no disk: its point lies " +
-                       meshing::format_number(best_d) + " m from the nearest disk centre (radius " +
-                       meshing::format_number(m.radius[best]) + " m), outside every body");
-    }
+    const std::size_t best = probe_disk(m, p);  // refused at set-up if it selects none
     std::vector<std::string> fields = p.fields;
     if (fields.empty()) fields = {"displacement", "velocity", "stress", "rotation", "spin"};
     for (const std::string& f : fields) {
@@ -454,11 +442,9 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     for (const meshing::BodyOutline& b : c.outline.bodies) names.push_back(b.name);
     body_slot_.assign(names.size(), -1);
     for (const std::string& b : c.output.body_history) {
+      // An unknown body or one without disks was refused at set-up (Solver::check_probes).
       const auto at = std::find(names.begin(), names.end(), b);
-      if (at == names.end()) throw InputError(c.source + ": output.body_history: unknown body '" + b + "'");
-      const auto index = static_cast<std::int32_t>(at - names.begin());
-      if (std::find(m.body.begin(), m.body.end(), index) == m.body.end())
-        throw InputError(c.source + ": output.body_history: body '" + b + "' selects no disk (it has none)");
+      HEXDEM_VERIFY(at != names.end(), "body_history body '" + b + "' passed the set-up's check");
       body_slot_[static_cast<std::size_t>(at - names.begin())] = static_cast<int>(body_sums_.size());
       body_sums_.push_back({});
       for (const char* col : {"mass", "x", "y", "vx", "vy", "px", "py", "kinetic"}) bodies_header << "," << b << "." << col;
@@ -519,7 +505,9 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     // The last frame in this folder (the checkpoint's own path names the folder it was
     // written in, which may since have been copied or moved).
     last_frame_ = pvd_.empty() ? std::string() : (fs::path(dir_) / pvd_.back().file).string();
-    list_frames(true);
+    io::write_pvd(pvd_path_, pvd_);
+    pvd_listed_ = pvd_.size();
+    pvd_written_ = std::chrono::steady_clock::now();
   } else {
     fs::remove(pvd_path_, ec);
   }
@@ -565,8 +553,8 @@ void RunOutput::finish() {
 void RunOutput::list_frames(bool all) {
   const std::size_t unlisted = pvd_.size() - pvd_listed_;
   const auto now = std::chrono::steady_clock::now();
-  if (!all && (unlisted == 0 || (unlisted < std::max<std::size_t>(1, pvd_listed_ / 16) &&
-                                 now - pvd_written_ < std::chrono::seconds(2))))
+  if (unlisted == 0) return;  // the .pvd on disk (or its absence: no frame yet) is up to date
+  if (!all && unlisted < std::max<std::size_t>(1, pvd_listed_ / 16) && now - pvd_written_ < std::chrono::seconds(2))
     return;
   io::write_pvd(pvd_path_, pvd_);
   pvd_listed_ = pvd_.size();

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/toml_values.hpp"
 #include "hexdem/solver/boundary_checks.hpp"
 #include "hexdem/solver/checkpoint.hpp"
 #include "hexdem/solver/random_field.hpp"
@@ -71,6 +73,8 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   setup_boundaries();
   setup_loads();
   setup_reactions();
+  check_probes();
+  check_walls();
   lap(setup_times_.sets);
   // On the model at rest (the estimate saves no state), before the contacts' structures
   // exist, so that its transient model does not add to theirs in the peak memory.
@@ -130,6 +134,65 @@ void Solver::setup_nonlocal_strain() {
                        "\"Nonlocal criterion\")");
   }
   build_nonlocal_strain(model_, radius);
+}
+
+std::size_t probe_disk(const Model& m, const Probe& p) {
+  std::size_t best = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.num_disks(); ++i) {
+    const double d = std::hypot(m.x0[i] - p.point[0], m.y0[i] - p.point[1]);
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  // A probe outside every body would record a disk far from where it was asked for.
+  if (m.num_disks() == 0 || !(best_d <= 2 * m.radius[best])) {
+    throw InputError(p.where + ": probe '" + p.name + "' selects no disk: its point lies " +
+                     meshing::format_number(best_d) + " m from the nearest disk centre (radius " +
+                     meshing::format_number(m.num_disks() == 0 ? 0.0 : m.radius[best]) + " m), outside every body");
+  }
+  return best;
+}
+
+void Solver::check_probes() const {
+  const Model& m = model_;
+  for (const Probe& p : case_.probes) (void)probe_disk(m, p);
+  for (const std::string& b : case_.output.body_history) {
+    const auto at = std::find(lattice_.body_names.begin(), lattice_.body_names.end(), b);
+    if (at == lattice_.body_names.end())
+      throw InputError(case_.source + ": output.body_history: unknown body '" + b + "'");
+    const auto index = static_cast<std::int32_t>(at - lattice_.body_names.begin());
+    if (std::find(m.body.begin(), m.body.end(), index) == m.body.end())
+      throw InputError(case_.source + ": output.body_history: body '" + b + "' selects no disk (it has none)");
+  }
+}
+
+void Solver::check_walls() const {
+  const Model& m = model_;
+  for (const Wall& wall : case_.walls) {
+    // The disk that reaches farthest into the wall at t = 0 (wall_forces' overlap delta).
+    double worst = 0;
+    std::size_t worst_i = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < m.num_disks(); ++i) {
+      const double delta =
+          m.radius[i] - ((m.x0[i] - wall.point[0]) * wall.normal[0] + (m.y0[i] - wall.point[1]) * wall.normal[1]);
+      if (delta > 1e-9 * m.radius[i] && (!any || delta > worst)) {
+        worst = delta;
+        worst_i = i;
+        any = true;
+      }
+    }
+    if (!any) continue;
+    const double x = m.x0[worst_i], y = m.y0[worst_i];
+    throw InputError(wall.where + ": the wall through (" + fmt(wall.point[0], 6) + ", " + fmt(wall.point[1], 6) +
+                     ") m with normal (" + fmt(wall.normal[0], 6) + ", " + fmt(wall.normal[1], 6) +
+                     ") overlaps the disk at (" + fmt(x, 6) + ", " + fmt(y, 6) + ") m by " + fmt(worst, 6) +
+                     " m (radius " + fmt(m.radius[worst_i], 6) +
+                     " m) at t = 0: every disk must lie on the side the normal points to, its centre at least "
+                     "its radius from the wall; move the wall or flip its normal");
+  }
 }
 
 void Solver::refuse_unless_allowed(const std::string& message, const std::string& remedy) {

@@ -64,7 +64,10 @@ double TimeFunction::operator()(double t) const {
       const auto prev = next - 1;
       const double span = next->first - prev->first;
       if (span <= 0.0) return next->second;
-      const double w = (t - prev->first) / span;
+      // Points more than DBL_MAX apart ([[-1e308, 0], [1e308, 1]]) overflow the span to inf,
+      // which would give w = 0 everywhere: then the halves of the times, which do not overflow.
+      const double w = std::isfinite(span) ? (t - prev->first) / span
+                                           : (0.5 * t - 0.5 * prev->first) / (0.5 * next->first - 0.5 * prev->first);
       return (1.0 - w) * prev->second + w * next->second;
     }
   }

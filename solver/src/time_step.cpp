@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "hexdem/error.hpp"
+#include "hexdem/solver/case_toml.hpp"
 
 #include "solver_text.hpp"
 
@@ -317,21 +318,22 @@ double Solver::finite_estimate() {
   // neighbours their whole neighbourhoods.
   constexpr int kBandWidth = 16, kBandHalo = 3;
   // The model is at rest and has no forces yet (the first step computes them; the whole
-  // model's estimate leaves its probe's in them): its state arrays hold zeros, released while
-  // the band's model exists so that it does not add to the run's peak memory, and given back
-  // as zeros.
+  // model's estimate leaves its probe's in them): its state, force and strain arrays hold
+  // zeros, released while the band's model exists so that it does not add to the run's peak
+  // memory, and given back as zeros.
   Model& m = model_;
-  std::vector<std::vector<double>*> zeros;
+  std::vector<std::pair<std::vector<double>*, std::size_t>> zeros;
   for (auto* a : {&m.ux, &m.uy, &m.theta, &m.vx, &m.vy, &m.omega, &m.vx_old, &m.vy_old, &m.omega_old, &m.fx, &m.fy,
-                  &m.torque}) {
-    if (std::all_of(a->begin(), a->end(), [](double x) { return x == 0.0; })) {
+                  &m.torque, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.pair_fx, &m.pair_fy, &m.strain.eps_xx, &m.strain.eps_yy,
+                  &m.strain.eps_xy, &m.strain.w_xx, &m.strain.w_xy, &m.strain.w_yx, &m.strain.w_yy}) {
+    if (!a->empty() && std::all_of(a->begin(), a->end(), [](double x) { return x == 0.0; })) {
+      zeros.emplace_back(a, a->size());
       std::vector<double>().swap(*a);
-      zeros.push_back(a);
     }
   }
   std::size_t band = 0;
   std::optional<double> band_w2 = band_omega2_max(kBandWidth, kBandHalo, &band);
-  for (auto* a : zeros) a->assign(m.num_disks(), 0.0);
+  for (auto [a, size] : zeros) a->assign(size, 0.0);
   // An edge mode decays into the bulk the more slowly the nearer it lies to the bulk's top
   // (its decay rate goes as the square root of the distance): one within 2 % of the largest
   // Bloch value may reach beyond the band (a plate on a lattice turned by 7 degrees, 0.5 %
@@ -355,6 +357,24 @@ void Solver::choose_time_step(double w2) {
                                                          case_.outline.bodies[b].radius.value_or(0.0)));
   }
   info.dt_finite = finite_model_step(w2);
+  // A critical step that is not a positive finite number (a density or stiffness at the
+  // ends of the double range: density 1e-300 gives inf) cannot give a step: bad input, not a
+  // numerical failure of the run (docs/case-format.md, "Time step").
+  for (std::size_t b = 0; b < bloch_.size(); ++b) {
+    const double dt_b = bloch_[b].dt_critical;
+    if (std::isfinite(dt_b) && dt_b > 0) continue;
+    const Material& mat = *body_materials_[b].material;
+    const std::string stiffness = mat.E > 0 ? "E = " + fmt(mat.E, 6) + " Pa"
+                                            : "c11 = " + fmt(mat.c.c11, 6) + " Pa, c66 = " + fmt(mat.c.c66, 6) + " Pa";
+    throw InputError(case_.source + ": [[material]] '" + mat.name + "' (id " + std::to_string(mat.id) +
+                     "): density = " + fmt(mat.density, 6) + " kg/m^3, " + stiffness +
+                     ": the critical time step of body '" + case_.outline.bodies[b].name + "' is " + fmt(dt_b, 6) +
+                     " s, not a positive finite number; check the material's units");
+  }
+  if (std::isnan(info.dt_finite) || !(info.dt_finite > 0))
+    throw InputError(case_.source + ": the finite model's critical time step is " + fmt(info.dt_finite, 6) +
+                     " s, not a positive number (case.thickness = " + fmt(case_.thickness, 6) +
+                     " m); check the thickness and the materials' units");
   info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
   // A contact dashpot at a fraction eta of critical damping makes central differences stable
   // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such
@@ -377,6 +397,19 @@ void Solver::choose_time_step(double w2) {
     const double steps = std::ceil(case_.time.end / target - 1e-9);
     info.dt = case_.time.end / steps;
   }
+  // An end time shorter than one step: no step would be taken (ceil gives 0, the chosen step
+  // -inf), and the run would end at t = 0 or report a blow-up.
+  if (!(case_.time.end / info.dt - 1e-9 > 0) || !std::isfinite(info.dt) || !(info.dt > 0)) {
+    const double step = info.user_dt ? info.dt : case_.time.safety * info.dt_critical;
+    throw InputError(case_.source + ": [time] end = " + fmt(case_.time.end, 6) + " s is shorter than one time step (" +
+                     (info.user_dt ? "dt = " : "safety x critical = ") + fmt(step, 6) +
+                     " s); raise end" + (info.user_dt ? " or lower dt" : " or check the materials' units"));
+  }
+  // The step count must fit (Solver::total_steps converts it to an integer): checked here so
+  // that `hexdem check` refuses what `hexdem run` refuses.
+  if (const double n = case_.time.end / info.dt; !(n <= kMaxSteps))
+    throw InputError(case_.source + ": [time] end = " + fmt(case_.time.end, 6) + " s at dt = " + fmt(info.dt, 6) +
+                     " s needs " + fmt(n, 6) + " steps, more than " + fmt(kMaxSteps, 6) + "; lower end or raise dt");
 }
 
 std::int64_t Solver::total_steps() const {

@@ -78,7 +78,7 @@ velocity = [0.0, -200.0]
 [contact]
 damping = 0.1
 [[wall]]
-point = [0, -0.0001]
+point = [0, -0.0006]  # below the bottom edge's semi-disks at r = 0.5 and 0.6 mm (an overlap at t = 0 is refused)
 normal = [0, 1]
 [time]
 end = 12e-6

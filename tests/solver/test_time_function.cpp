@@ -130,5 +130,19 @@ TEST(TimeFunction, TableInterpolates) {
   EXPECT_DOUBLE_EQ(g.max_abs(0.0), 1.0);
 }
 
+TEST(TimeFunction, TableSpanBeyondTheDoubleRangeInterpolates) {
+  // Was: t1 - t0 overflowed to inf, and (t - t0) / inf = 0 gave the first value everywhere:
+  // a pressure of [[-1e308, 0], [1e308, 1]] was never applied.
+  const TimeFunction f = table({{-1e308, 0.0}, {1e308, 1.0}});
+  EXPECT_DOUBLE_EQ(f(0.0), 0.5);
+  EXPECT_DOUBLE_EQ(f(1e-6), 0.5);
+  EXPECT_DOUBLE_EQ(f(1e307), 0.55);
+  EXPECT_DOUBLE_EQ(f(-1e308), 0.0);
+  EXPECT_DOUBLE_EQ(f.max_abs(1e-4), 0.5);
+  const TimeFunction g = table({{-1.7e308, -1.0}, {1.7e308, 1.0}});
+  EXPECT_DOUBLE_EQ(g(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(g(8.5e307), 0.5);
+}
+
 }  // namespace
 }  // namespace hexdem::solver

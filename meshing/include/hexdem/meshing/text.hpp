@@ -57,4 +57,11 @@ inline bool has_control_character(std::string_view text) {
   return false;
 }
 
+/// Whether `text` holds a character that would break a CSV header it is written into
+/// unquoted (a comma or a double quote): body and boundary set names name CSV columns
+/// (docs/outline-format.md, "Names").
+inline bool has_csv_special(std::string_view text) {
+  return text.find_first_of(",\"") != std::string_view::npos;
+}
+
 }  // namespace hexdem::meshing

@@ -93,6 +93,11 @@ struct BlowUp {
 /// omega_max^2 [1/s^2] (the 2 % for what the iteration has not reached); infinite for 0.
 [[nodiscard]] double finite_model_step(double omega2_max);
 
+/// The disk a probe records: the one whose reference centre is nearest to its point. Throws
+/// InputError (naming the probe, the distance and the radius) if that centre is farther than
+/// 2r: the point lies outside every body.
+[[nodiscard]] std::size_t probe_disk(const Model& m, const Probe& p);
+
 class Solver {
 public:
   /// Builds the model from the lattice (meshed from case.outline), applies initial
@@ -228,6 +233,13 @@ private:
   /// Resolves `[output] reactions` into reaction_sets_ (after the boundaries and loads).
   void setup_reactions();
   void setup_initial_velocities();
+  /// Refuses (InputError) a probe that selects no disk (probe_disk) and an `[output] body_history` body without
+  /// disks: the checks `hexdem run` makes before its output, made at set-up so that
+  /// `hexdem check` makes them too.
+  void check_probes() const;
+  /// Refuses (InputError) a `[[wall]]` that overlaps a disk at t = 0 (a centre closer than
+  /// (1 - 1e-9) r to the wall's line, or behind it).
+  void check_walls() const;
   void setup_contacts();
   void contact_forces(double dt);
   void wall_forces(double dt);
