@@ -16,6 +16,7 @@
 #include <cstring>
 #include <new>
 
+#include <malloc.h>
 #include <sys/mman.h>
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
@@ -42,6 +43,14 @@ bool huge_pages_wanted() noexcept {
   }();
   return wanted;
 }
+
+/// glibc serves a block of at least M_MMAP_THRESHOLD from its own mapping, which free()
+/// returns to the system at once. Left to itself it raises that threshold (up to 32 MiB) after
+/// the first such block is freed, and then serves the model's arrays (1 to 24 MB each) from
+/// the heap, where the blocks the set-up frees (the generator's work space, the critical
+/// step's band model) stay resident below the ones it keeps: 20 to 27 bytes per disk of the
+/// peak at 1,000,000 disks (docs/benchmarks.md, "Memory"). A threshold set once stays fixed.
+const bool kFixedMmapThreshold = [] { return mallopt(M_MMAP_THRESHOLD, 1 << 20) == 1; }();
 
 void* allocate(std::size_t n) noexcept {
   if (n >= kThreshold && huge_pages_wanted()) {

@@ -234,7 +234,6 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
     if (axisym)
       for (auto* v : {&m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.fracture, &m.hoop_cracks.e_last, &m.hoop_cracks.break_kinetic}) v->assign(n, 0.0);
   }
-  std::vector<std::int32_t> bond_count(n, 0);  // bonds per disk: the adjacency's offsets
   m.state.assign(nb, static_cast<std::uint8_t>(BondState::Intact));
   for (std::size_t b = 0; b < nb; ++b) {
     const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
@@ -290,8 +289,6 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       m.bond_plastic.kh_s[b] = ks * ratio;
       m.any_plastic = true;
     }
-    ++bond_count[i];
-    ++bond_count[j];
   }
   // An elastic lattice's gather reads the pair force; the laws read f_n and n back.
   if (m.elastic_lattice()) {
@@ -312,16 +309,22 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
   if (2 * nb >= (std::size_t{1} << 31))
     throw InputError("the lattice has " + std::to_string(nb) + " bonds; hexdem handles at most 1073741823 (about 350 million "
                      "disks): use a larger [mesh] radius or a smaller region");
+  // Counted, summed and filled in adj_offset itself (no work arrays: they were 8 bytes per
+  // disk of the set-up's peak): after the fill, entry i + 1 holds where row i + 1 begins.
   m.adj_offset.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] = m.adj_offset[i] + bond_count[i];
-  m.adj_entry.assign(2 * nb, 0);
-  std::vector<std::int32_t> fill(m.adj_offset.begin(), m.adj_offset.end() - 1);
   for (std::size_t b = 0; b < nb; ++b) {
-    const auto i = m.bi[b], j = m.bj[b];
-    const auto pi = fill[static_cast<std::size_t>(i)]++, pj = fill[static_cast<std::size_t>(j)]++;
-    m.adj_entry[pi] = static_cast<std::int32_t>(b);   // i is the bond's bi
-    m.adj_entry[pj] = ~static_cast<std::int32_t>(b);  // j is its bj (Model::adj_other)
+    ++m.adj_offset[static_cast<std::size_t>(m.bi[b]) + 1];
+    ++m.adj_offset[static_cast<std::size_t>(m.bj[b]) + 1];
   }
+  for (std::size_t i = 0; i < n; ++i) m.adj_offset[i + 1] += m.adj_offset[i];
+  m.adj_entry.assign(2 * nb, 0);
+  for (std::size_t b = 0; b < nb; ++b) {  // row i's next free entry in adj_offset[i]
+    const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+    m.adj_entry[m.adj_offset[i]++] = static_cast<std::int32_t>(b);   // i is the bond's bi
+    m.adj_entry[m.adj_offset[j]++] = ~static_cast<std::int32_t>(b);  // j is its bj (Model::adj_other)
+  }
+  for (std::size_t i = n; i > 0; --i) m.adj_offset[i] = m.adj_offset[i - 1];  // back to the rows' starts
+  m.adj_offset[0] = 0;
   if (m.any_breakable) {
     for (auto* v : {&m.fx_intact, &m.fy_intact, &m.torque_intact}) v->assign(n, 0.0);
     if (m.uses_strains)  // the strain carried across a change of fit
