@@ -30,6 +30,7 @@
 #include "hexdem/meshing/text.hpp"
 #include "hexdem/meshing/toml_values.hpp"
 #include "hexdem/solver/case_toml.hpp"
+#include "hexdem/solver/output.hpp"
 #include "hexdem/solver/run_summary.hpp"
 #include "subcommands.hpp"
 
@@ -504,15 +505,6 @@ std::vector<std::string> previous_outputs(const Member& m) {
   return {"exit_code", m.case_name + ".summary.csv", m.case_name + ".status", m.case_name + ".case.toml"};
 }
 
-/// Creates `dir` (and its parents); InputError naming the folder and the reason otherwise.
-void make_folder(const std::string& dir) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError(dir + ": cannot create the output folder (a file of that name exists)");
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir + ": cannot create the output folder (" + ec.message() + ")");
-}
-
 int run_sweep(const SweepArgs& a) {
   const Study study = read_study(a.study);
   const std::vector<std::vector<std::string>> sets = member_sets(study);
@@ -578,7 +570,7 @@ int run_sweep(const SweepArgs& a) {
                 "/exit_code";
     commands += m.command + "\n";
   }
-  make_folder(out_dir);
+  solver::make_folder(out_dir);
   // One command per line: line k runs member k alone (e.g. a cluster job array).
   io::write_file_atomic((fs::path(out_dir) / "commands.txt").string(), commands);
   if (a.dry_run) {
@@ -594,7 +586,7 @@ int run_sweep(const SweepArgs& a) {
     fs::remove(csv_path, ec);
     if (ec) throw InputError(csv_path + ": cannot remove the previous table (" + ec.message() + ")");
     for (const Member& m : members) {
-      make_folder(m.folder);
+      solver::make_folder(m.folder);
       for (const std::string& f : previous_outputs(m)) {
         const fs::path file = fs::path(m.folder) / f;
         fs::remove(file, ec);

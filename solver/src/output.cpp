@@ -47,15 +47,6 @@ void csv_number(CsvFile& o, double v) {
 
 std::string errno_reason() { return std::strerror(errno); }
 
-/// Creates `dir` (and its parents); InputError naming the folder and the reason otherwise.
-void make_folder(const std::string& dir) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError(dir + ": cannot create the output folder (a file of that name exists)");
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir + ": cannot create the output folder (" + ec.message() + ")");
-}
-
 /// Next output time after `now` for outputs every `interval` from `next`: the smallest
 /// next + k interval > now. Jumps instead of stepping when the interval is so small that
 /// stepping would take long or, below the resolution of `next`, never end.
@@ -111,6 +102,14 @@ void add_bodies_and_sets(const meshing::Lattice& lattice, std::size_t n, io::Lin
 }
 
 }  // namespace
+
+void make_folder(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(dir + ": cannot create the output folder (a file of that name exists)");
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create the output folder (" + ec.message() + ")");
+}
 
 CsvFile::~CsvFile() {
   if (fd_ >= 0) ::close(fd_);

@@ -65,6 +65,10 @@ private:
   int fd_ = -1;
 };
 
+/// Creates `dir` and its parents; InputError naming the folder and the reason otherwise (a
+/// file of that name, no permission). For `hexdem run` and `hexdem sweep`.
+void make_folder(const std::string& dir);
+
 class RunOutput {
 public:
   /// Creates DIR (and DIR/<case>/, emptied of old frames of this case) and opens the CSVs.
