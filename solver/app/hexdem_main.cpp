@@ -17,6 +17,8 @@
 #include <iostream>
 #include <new>
 #include <optional>
+#include <cerrno>
+#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
@@ -308,12 +310,20 @@ int main(int argc, char** argv) {
     if (*mesh_cmd) check_thread_count(mesh.threads);
     else if (*run_cmd) check_thread_count(run.threads);
     else if (!*sweep.cmd && !*bench.cmd) check_thread_count(0);
-    if (*mesh_cmd) return run_mesh(mesh, *mesh_cmd);
-    if (*run_cmd) return run_run(run);
-    if (*check.cmd) return check.run();
-    if (*sweep.cmd) return sweep.run();
-    if (*bench.cmd) return bench.run();
-    if (*post.cmd) return post.run();
+    int code = hexdem::kExitOk;
+    if (*mesh_cmd) code = run_mesh(mesh, *mesh_cmd);
+    else if (*run_cmd) code = run_run(run);
+    else if (*check.cmd) code = check.run();
+    else if (*sweep.cmd) code = sweep.run();
+    else if (*bench.cmd) code = bench.run();
+    else if (*post.cmd) code = post.run();
+    // A report that could not be written (stdout on a full disk, /dev/full) is not a success.
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      const int err = errno;
+      print_error("error", std::string("cannot write to standard output (") + std::strerror(err) + ")");
+      return code == hexdem::kExitOk || code == hexdem::kExitWarning ? hexdem::kExitInputError : code;
+    }
+    return code;
   } catch (const hexdem::InputError& e) {
     print_error("error", e.what());
     return hexdem::kExitInputError;

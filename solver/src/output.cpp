@@ -474,7 +474,7 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
   // Every check passed: prepare the folder. The status says "running" before anything of
   // a finished series goes (a status that cannot be written stops the run here).
   make_folder(dir_);
-  make_folder(frame_dir_);
+  if (c.output.frames) make_folder(frame_dir_);  // no empty frame folder without frames
   write_status("running");
   std::error_code ec;
   // Old frames of this case would be listed by nobody but could confuse a reader: remove them
@@ -488,12 +488,14 @@ void RunOutput::open(const Solver& solver, const RunState* resume) {
     return std::all_of(f.begin() + static_cast<std::ptrdiff_t>(head.size()), f.end() - static_cast<std::ptrdiff_t>(tail.size()),
                        [](char ch) { return ch >= '0' && ch <= '9'; });
   };
-  for (fs::directory_iterator it(frame_dir_, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string f = it->path().filename().string();
-    std::error_code rm;
-    if (is_frame(f) && std::find(keep.begin(), keep.end(), f) == keep.end()) fs::remove(it->path(), rm);
+  if (fs::is_directory(frame_dir_, ec)) {  // none: a first run without frames
+    for (fs::directory_iterator it(frame_dir_, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string f = it->path().filename().string();
+      std::error_code rm;
+      if (is_frame(f) && std::find(keep.begin(), keep.end(), f) == keep.end()) fs::remove(it->path(), rm);
+    }
+    if (ec) throw InputError(frame_dir_ + ": cannot list the folder (" + ec.message() + ")");
   }
-  if (ec) throw InputError(frame_dir_ + ": cannot list the folder (" + ec.message() + ")");
   // The CSVs of a restart continue from the checkpoint; those of a new run start afresh.
   if (resume != nullptr) {
     truncate_for_restart(energy_path_, resume->energy_bytes);

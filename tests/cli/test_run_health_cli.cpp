@@ -257,5 +257,25 @@ checkpoint_interval = 2e-6
   EXPECT_EQ(r.code, 0) << r.err;
 }
 
+TEST(RunHealth, NoFrameFolderWithoutFramesAndAnUnwritableReportIsNotASuccess) {
+  const fs::path d = test_dir("cli_run_health", true);
+  std::string text = plate_case("4e-6", "1e-6", kSets);
+  text.replace(text.find("[output]\n"), 9, "[output]\nframes = false\n");
+  const fs::path c = write(d, "p.toml", text);
+  Result r = run_hexdem(d, "run " + c.string() + " -q -j 1 -o " + (d / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out" / "p")) << "an empty frame folder was made";
+  EXPECT_TRUE(fs::exists(d / "out" / "p.energy.csv"));
+  // stdout on a full device: the report is lost, so the exit code is not 0 (was 0).
+  const std::string cmd = std::string(HEXDEM_BINARY) + " check " + c.string() + " > /dev/full 2> " +
+                          (d / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const std::string err = slurp(d / "err.txt");
+  EXPECT_EQ(count_lines(err), 1) << err;
+  EXPECT_NE(err.find("cannot write to standard output"), std::string::npos) << err;
+}
+
 }  // namespace
 }  // namespace hexdem::testing
