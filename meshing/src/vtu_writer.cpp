@@ -22,6 +22,7 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cerrno>
 #include <cinttypes>
@@ -75,8 +76,16 @@ std::string xml_escape(std::string_view s) {
   return out;
 }
 
+/// `<path>.tmp<pid>`; for a name with no room for that suffix (Linux names hold at most 255
+/// bytes, and a valid 250-byte output name was refused), `.hexdem<pid>-<n>.tmp` in its folder.
 std::string temp_path_for(const std::string& path) {
-  return path + ".tmp" + std::to_string(static_cast<long long>(::getpid()));
+  static std::atomic<unsigned> count{0};
+  const std::string pid = std::to_string(static_cast<long long>(::getpid()));
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t name = slash == std::string::npos ? path.size() : path.size() - slash - 1;
+  if (name + 4 + pid.size() <= 255) return path + ".tmp" + pid;
+  const std::string folder = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+  return folder + ".hexdem" + pid + "-" + std::to_string(count++) + ".tmp";
 }
 
 std::string errno_text(int err) { return err != 0 ? std::string(": ") + std::strerror(err) : ""; }

@@ -277,5 +277,25 @@ TEST(RunHealth, NoFrameFolderWithoutFramesAndAnUnwritableReportIsNotASuccess) {
   EXPECT_NE(err.find("cannot write to standard output"), std::string::npos) << err;
 }
 
+TEST(OutputNames, ANameWithNoRoomForTheTemporarySuffixIsWritten) {
+  // Was: "File name too long" for a valid 250-byte name (the temporary file's name is longer).
+  const fs::path d = test_dir("cli_run_health", true);
+  write(d, "outline.toml", R"([lattice]
+radius = 0.5e-3
+[[body]]
+name = "plate"
+[[body.shape]]
+type = "rectangle"
+min = [0, -0.005]
+max = [0.005, 0]
+)");
+  const std::string name = std::string(246, 'm') + ".vtu";  // 250 bytes
+  const Result r = run_hexdem(d, "mesh " + (d / "outline.toml").string() + " -q -j 1 -o " + (d / name).string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / name));
+  for (const auto& e : fs::directory_iterator(d))
+    EXPECT_EQ(e.path().filename().string().find("tmp"), std::string::npos) << "left behind: " << e.path();
+}
+
 }  // namespace
 }  // namespace hexdem::testing
