@@ -287,10 +287,13 @@ void SweepPrune::find_all_pairs() {
 
   const double ymin = axis_[1].ends.front().value;
   const double span = axis_[1].ends.back().value - ymin;
-  work_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) work_[i] = hi(1, i) - lo(1, i);
-  std::nth_element(work_.begin(), work_.begin() + static_cast<std::ptrdiff_t>(n / 2), work_.end());
-  double height = work_[n / 2];
+  // The bands' height: the median box height of at most 4,096 boxes (every k-th): it sets how
+  // fast the search is, not what it finds.
+  const std::size_t stride = std::max<std::size_t>(1, n / 4096);
+  work_.clear();
+  for (std::size_t i = 0; i < n; i += stride) work_.push_back(hi(1, i) - lo(1, i));
+  std::nth_element(work_.begin(), work_.begin() + static_cast<std::ptrdiff_t>(work_.size() / 2), work_.end());
+  double height = work_[work_.size() / 2];
   if (!(height > 0)) height = span / std::sqrt(static_cast<double>(n));
 
   std::size_t nb = 1;
@@ -329,8 +332,8 @@ void SweepPrune::find_all_pairs() {
   for (const EndPoint& e : axis_[0].ends) {  // minima in x order: each band comes out sorted
     if (e.tag & kMaxBit) continue;
     const std::uint32_t i = e.tag;
-    const BandBox bb{e.value, hi(0, i), lo(1, i), hi(1, i), static_cast<std::int32_t>(i)};
-    const std::size_t b0 = band_of(bb.lo_y), b1 = band_of(bb.hi_y);
+    const BandBox bb{e.value, i};
+    const std::size_t b0 = band_of(lo(1, i)), b1 = band_of(hi(1, i));
     for (std::size_t b = b0; b <= b1; ++b) band_boxes_[band_fill_[b]++] = bb;
   }
 
@@ -340,12 +343,14 @@ void SweepPrune::find_all_pairs() {
     const BandBox* bb = band_boxes_.data();
     const std::size_t end = band_start_[b + 1];
     for (std::size_t k = band_start_[b]; k < end; ++k) {
-      const BandBox& p = bb[k];
-      for (std::size_t m = k + 1; m < end && bb[m].lo_x <= p.hi_x; ++m) {
-        const BandBox& q = bb[m];
-        if (q.lo_y <= p.hi_y && p.lo_y <= q.hi_y && band_of(std::max(p.lo_y, q.lo_y)) == b) {
-          const Pair pr =
-              ordered(static_cast<std::uint32_t>(p.disk), static_cast<std::uint32_t>(q.disk));
+      // Only x's minimum is kept per entry (the sweep's test); the rest from the end points.
+      const std::uint32_t pi = bb[k].disk;
+      const double p_hi_x = hi(0, pi), p_lo_y = lo(1, pi), p_hi_y = hi(1, pi);
+      for (std::size_t m = k + 1; m < end && bb[m].lo_x <= p_hi_x; ++m) {
+        const std::uint32_t qi = bb[m].disk;
+        const double q_lo_y = lo(1, qi), q_hi_y = hi(1, qi);
+        if (q_lo_y <= p_hi_y && p_lo_y <= q_hi_y && band_of(std::max(p_lo_y, q_lo_y)) == b) {
+          const Pair pr = ordered(pi, qi);
           if (!is_excluded(pr.first, pr.second)) flips_.push_back(pr);
         }
       }

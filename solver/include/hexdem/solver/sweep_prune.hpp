@@ -143,10 +143,12 @@ class SweepPrune {
     std::vector<EndPoint> ends;      ///< 2n end points in (value, tag) order
     std::vector<std::uint32_t> pos;  ///< pos[2 disk + is_max]: index in `ends`
   };
-  /// One entry of a y band in the full pair search.
+  /// One entry of a y band in the full pair search: the box's x minimum (the sweep's test)
+  /// and its disk; the other bounds are read from the end points (16 bytes an entry, not 40:
+  /// the entries, about two per disk, were a third of the broad phase's memory).
   struct BandBox {
-    double lo_x, hi_x, lo_y, hi_y;
-    std::int32_t disk;
+    double lo_x;
+    std::uint32_t disk;
   };
 
   /// The stored box of disk i on axis a, read from its end points (the boxes are not kept
