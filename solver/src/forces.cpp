@@ -502,7 +502,7 @@ double intact_bond_energy(const Model& m, std::size_t b) {
     return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b) * delta * delta) +
            g * 0.5 * m.ks(b) * us * us + D * 0.5 * m.ks(b) * fr * fr;
   }
-  const double f_n = m.elastic_lattice() ? bond_force(m, b).f_n : m.f_n[b];
+  const double f_n = bond_force(m, b).f_n;  // stored, or from the positions in an elastic lattice
   double e = m.kn(b) != 0 ? 0.5 * f_n * f_n / m.kn(b) : 0.0;
   if (m.ks(b) != 0) e += 0.5 * m.f_s[b] * m.f_s[b] / m.ks(b);
   if (m.yields(b)) {
@@ -1065,21 +1065,20 @@ void gather_forces(Model& m) {
         fx += s * pair_fx[b];
         fy += s * pair_fy[b];
         if constexpr (PairShear) tq += r_i * f_s[b];
-      }
-      const double nx = Elastic ? 0.0 : bnx[b], ny = Elastic ? 0.0 : bny[b];
-      double f_x = Elastic ? 0.0 : f_n[b] * nx, f_y = Elastic ? 0.0 : f_n[b] * ny;
-      if constexpr (Breakable) {
-        if (a.state[b] > 1) {  // !Model::bond_intact
-          // A broken bond in contact: pair force with friction and its moment.
-          f_x -= f_s[b] * ny;
-          f_y += f_s[b] * nx;
-          fx += s * f_x;
-          fy += s * f_y;
-          tq += r_i * f_s[b];
-          continue;
+      } else {
+        const double nx = bnx[b], ny = bny[b];
+        double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
+        if constexpr (Breakable) {
+          if (a.state[b] > 1) {  // !Model::bond_intact
+            // A broken bond in contact: pair force with friction and its moment.
+            f_x -= f_s[b] * ny;
+            f_y += f_s[b] * nx;
+            fx += s * f_x;
+            fy += s * f_y;
+            tq += r_i * f_s[b];
+            continue;
+          }
         }
-      }
-      if constexpr (!Elastic) {
         if constexpr (PairShear) {
           f_x -= f_s[b] * ny;
           f_y += f_s[b] * nx;
