@@ -85,6 +85,9 @@ void visit_model(M& m, V& v) {
   v.rebuilt("nonlocal_relative", m.nonlocal.relative); v.rebuilt("nonlocal_packed", m.nonlocal.packed);
   v.rebuilt("nonlocal_cell_max", m.nonlocal.cell_max);
   v.rebuilt("nonlocal_hot", m.nonlocal.hot);
+  // The local criterion's bound (from the case) and its classes (recomputed every strain pass).
+  v.rebuilt("local_criterion_body", m.local_criterion.body);
+  v.rebuilt("local_criterion_disk", m.local_criterion.disk);
   v.state("hoop_lambda", m.hoop.lambda); v.state("hoop_mu", m.hoop.mu);
   v.state("nu_zz", m.hoop.nu_zz);
   v.state("vx_old", m.vx_old); v.state("vy_old", m.vy_old); v.state("omega_old", m.omega_old);
@@ -799,6 +802,22 @@ std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h) {
   return h;
 }
 
+std::uint64_t hash_words(const void* data, std::size_t size, std::uint64_t h) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  std::size_t k = 0;
+  for (; k + 8 <= size; k += 8) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, p + k, 8);
+    h = (h ^ w) * 0x9e3779b97f4a7c15ull;
+    h ^= h >> 32;
+  }
+  for (; k < size; ++k) {
+    h ^= p[k];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
 std::uint64_t case_hash(const Case& c) {
   if (!c.effective_toml.empty()) return fnv1a(c.effective_toml.data(), c.effective_toml.size());
   const std::string id = c.name + '\n' + c.source;
@@ -806,8 +825,8 @@ std::uint64_t case_hash(const Case& c) {
 }
 
 std::uint64_t lattice_hash(const meshing::Lattice& l) {
-  std::uint64_t h = fnv1a(nullptr, 0);
-  auto add = [&h](const auto& v) { h = fnv1a(v.data(), v.size() * sizeof(v[0]), h); };
+  std::uint64_t h = hash_words(nullptr, 0);
+  auto add = [&h](const auto& v) { h = hash_words(v.data(), v.size() * sizeof(v[0]), h); };
   add(l.x);
   add(l.y);
   add(l.radius);
@@ -818,7 +837,7 @@ std::uint64_t lattice_hash(const meshing::Lattice& l) {
   add(l.cell_area);
   // The boundary sets: names and members (an outline whose set names were swapped meshes to
   // the same disks, but the run's conditions and the frames' set arrays follow the sets).
-  for (const std::string& name : l.set_names) h = fnv1a(name.data(), name.size() + 1, h);  // with its NUL: no run-on
+  for (const std::string& name : l.set_names) h = hash_words(name.data(), name.size() + 1, h);  // with its NUL: no run-on
   add(l.set_offset);
   add(l.set_disk);
   return h;
@@ -835,7 +854,7 @@ void write_checkpoint(const std::string& path, const Solver& s, const RunState& 
   put(s.lattice_hash());
   put(static_cast<std::uint64_t>(w.names_.size()));
   out += w.buf_;
-  put(fnv1a(out.data(), out.size()));
+  put(hash_words(out.data(), out.size()));
 
   // Temporary file, fsync, rename, fsync of the folder: the old checkpoint stays valid
   // until the new one is complete on disk.
@@ -885,7 +904,7 @@ void read_checkpoint(const std::string& path, Solver& s, RunState& run) {
   if (data.size() < header + 8) throw InputError(path + ": truncated checkpoint (" + std::to_string(data.size()) + " bytes)");
   std::uint64_t checksum = 0;
   std::memcpy(&checksum, data.data() + data.size() - 8, 8);
-  if (fnv1a(data.data(), data.size() - 8) != checksum)
+  if (hash_words(data.data(), data.size() - 8) != checksum)
     throw InputError(path + ": damaged or truncated checkpoint (checksum mismatch)");
   std::uint64_t chash = 0, lhash = 0, count = 0;
   std::memcpy(&chash, data.data() + sizeof kMagic + 4, 8);

@@ -112,6 +112,26 @@ inline double hoop_strain(const Model& m, std::size_t i) {
   return m.geometry == Geometry::Axisymmetric ? m.ux[i] / m.disk_weight(i) : 0.0;
 }
 
+/// The largest of softening_bond's continuum criteria (Rankine, crushing, Mohr-Coulomb) at the
+/// stress of the strain (exx, eyy, exy, ett), relative to the thresholds 1 / inv_ft, 1 / inv_fc,
+/// 1 / inv_mc [-]: an upper bound of each (the in-plane principal values bracketed by one
+/// square root, wider than its rounding; an upper bound is as good a bound as the criterion
+/// itself). NaN gives infinity (the exact test sees it).
+inline double relative_criterion(const SofteningParams& sp, double inv_ft, double inv_fc, double inv_mc, double exx,
+                                 double eyy, double exy, double ett, bool plane_stress) {
+  const double tr = exx + eyy;
+  const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
+  const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
+  const double s3 = plane_stress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
+  const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+  const double r = std::sqrt(d * d + sxy * sxy) * (1 + 1e-12);
+  const double s1 = c + r, s2 = c - r;
+  const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
+  const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * sp.mc.sin_phi;
+  const double g = std::max({s1 * inv_ft, -s_min * inv_fc, shear * inv_mc});
+  return g == g ? g : std::numeric_limits<double>::infinity();
+}
+
 /// Pass A: least-squares strain of each disk over its intact bonds,
 /// grad u_i = (sum_k (u_k - u_i) a_k^T) (sum_k a_k a_k^T)^-1, eps = sym(grad u).
 void disk_strain(Model& m, std::size_t i) {
@@ -128,10 +148,60 @@ void disk_strain(Model& m, std::size_t i) {
   }
 }
 
+/// Model::local_criterion's class of every disk from its strain of this pass: 0 without a full
+/// neighbourhood (softening_bond's "full"), 1 where relative_criterion (at the square root's
+/// bracket) stays below 1 - margin of its body's thresholds and the stress's terms before they
+/// cancel are small enough that their rounding (1e-15 of them) stays far below the margin,
+/// else 2. Branch-free over SoA arrays, so that the compiler vectorises it, square root
+/// included (once per disk in a dependent chain, it cost as much as the strain fit).
+template <bool Axisym>
+void classify_local_criterion(Model& m) {
+  const LocalCriterion& lc = m.local_criterion;
+  const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
+  const double* __restrict exx = m.strain.eps_xx.data();
+  const double* __restrict eyy = m.strain.eps_yy.data();
+  const double* __restrict exy = m.strain.eps_xy.data();
+  const double* __restrict ett = Axisym ? m.strain.eps_tt.data() : nullptr;
+  const double out_of_plane = m.geometry == Geometry::PlaneStress ? 0.0 : 1.0;  // s3's factor
+  const std::uint8_t* __restrict ok = m.strain.ok.data();
+  const std::int32_t* __restrict offset = m.adj_offset.data();
+  const std::int32_t* __restrict body = m.body.data();
+  const LocalCriterion::Body* __restrict bp = lc.body.data();
+  std::uint8_t* __restrict out = m.local_criterion.disk.data();
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const LocalCriterion::Body& p = bp[body[i]];
+    double e_tt = 0.0;
+    if constexpr (Axisym) e_tt = ett[i];
+    const double e_xx = exx[i], e_yy = eyy[i], e_xy = exy[i];
+    const double tr = e_xx + e_yy;
+    const double iso = p.lambda2 * tr + p.lambda3 * e_tt;
+    const double sxx = iso + 2 * p.mu * e_xx, syy = iso + 2 * p.mu * e_yy, sxy = 2 * p.mu * e_xy;
+    const double s3 = out_of_plane * (p.lambda3 * (tr + e_tt) + 2 * p.mu * e_tt);
+    const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
+    const double r = std::sqrt(d * d + sxy * sxy) * (1 + 1e-12);
+    const double s1 = c + r, s2 = c - r;
+    const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
+    const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * p.sin_phi;
+    const double g = std::max(std::max(s1 * p.inv_ft, -s_min * p.inv_fc), shear * p.inv_mc);
+    const double terms = p.moduli * (std::abs(e_xx) + std::abs(e_yy) + 2 * std::abs(e_xy) + std::abs(e_tt));
+    const int far = (g < p.far_below) & (terms * p.inv_max < 1e6);  // NaN: not far
+    const int full = (ok[i] != 0) & (offset[i + 1] - offset[i] == 6);
+    out[i] = static_cast<std::uint8_t>(full * (2 - far));
+  }
+}
+
 void compute_disk_strains(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) disk_strain(m, static_cast<std::size_t>(i));
+  if (!m.local_criterion.disk.empty()) {
+    if (m.geometry == Geometry::Axisymmetric) {
+      classify_local_criterion<true>(m);
+    } else {
+      classify_local_criterion<false>(m);
+    }
+  }
 }
 
 /// u_s = (d/2) s0.(eps_i + eps_j).n0 = g : (eps_i + eps_j) of bond b (local-strain model).
@@ -157,21 +227,9 @@ void compute_nonlocal_strains(Model& m) {
       const std::int32_t l = m.body_failure_law[body];
       if (nl.body_inv_ft[body] > 0 && l >= 0) {
         // The criteria of softening_bond at the disk's own strain (convex in the stress).
-        const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
-        const double exx = m.strain.eps_xx[iu], eyy = m.strain.eps_yy[iu], exy = m.strain.eps_xy[iu];
-        const double tr = exx + eyy, ett = axisym ? hoop_strain(m, iu) : 0.0;
-        const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
-        const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
-        const double s3 = plane_stress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
-        // The in-plane principal values bracketed by one square root, wider than its rounding
-        // (an upper bound of each criterion is as good a bound as the criterion itself).
-        const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
-        const double r = std::sqrt(d * d + sxy * sxy) * (1 + 1e-12);
-        const double s1 = c + r, s2 = c - r;
-        const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
-        const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * sp.mc.sin_phi;
-        g = std::max({s1 * nl.body_inv_ft[body], -s_min * nl.body_inv_fc[body], shear * nl.body_inv_mc[body]});
-        if (!(g == g)) g = kAlways;  // NaN: let the exact test see it
+        g = relative_criterion(m.softening[static_cast<std::size_t>(l)], nl.body_inv_ft[body], nl.body_inv_fc[body],
+                               nl.body_inv_mc[body], m.strain.eps_xx[iu], m.strain.eps_yy[iu], m.strain.eps_xy[iu],
+                               axisym ? hoop_strain(m, iu) : 0.0, plane_stress);
       } else {
         g = kAlways;  // no bound for this body: always checked
       }
@@ -683,6 +741,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     }
     return;
   }
+  // No criterion can fire where both disks' stresses are far from them (LocalCriterion).
+  if (!m.local_criterion.disk.empty() && m.local_criterion.far(i, j)) return;
   // Eq. 20: the rate factors at the bond's strain rate; the random field's factor. The
   // factors are >= 1 and only raise the strengths: each criterion is checked at the static
   // strengths first, and the factors (two logarithms) are computed only when it fails there.
@@ -793,6 +853,9 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   const double* __restrict ks_of = per_kind ? m.kind_k_s.data() : m.k_s.data();
   const std::uint8_t* __restrict kind = m.spring_kind.data();
   const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
+  // Softening: bonds that no criterion can break take softening_bond's forces here.
+  const bool far = Softening && !m.local_criterion.disk.empty();
+  const std::uint8_t* __restrict cracking = Softening ? m.cracks.cracking.data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
@@ -823,6 +886,13 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
       if (law_b >= 0 && m.softening[static_cast<std::size_t>(law_b)].G_F > 0) {
         // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
         if constexpr (Rotation) m.u_s[b] += du_s;
+        if (far && !cracking[b] && m.local_criterion.far(i, j)) {
+          // softening_bond's forces of an intact bond (D = 0) that no criterion can break.
+          m.f_n[b] = kn_of[kb] * (len - m.rest(static_cast<std::size_t>(b)));
+          m.f_s[b] = ks_of[kb] * m.u_s[b];
+          m.len_prev[b] = len;
+          continue;
+        }
         softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
         continue;
       }

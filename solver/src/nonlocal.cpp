@@ -12,6 +12,40 @@
 #include "hexdem/solver/model.hpp"
 
 namespace hexdem::solver {
+namespace {
+
+/// Per body where `use(body)`, the reciprocals of its smallest static thresholds: the strengths
+/// of its softening law times the smallest random-field factor of its bonds (the rate factors
+/// only raise them). 0 where a threshold is not positive or the body is not used: such a
+/// body's disks are always near a criterion.
+template <class Use>
+void criterion_thresholds(const Model& m, Use&& use, std::vector<double>& inv_ft, std::vector<double>& inv_fc,
+                          std::vector<double>& inv_mc) {
+  const std::size_t bodies = m.body_failure_law.size();
+  std::vector<double> scale_min(bodies, std::numeric_limits<double>::infinity());
+  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
+    const auto body = static_cast<std::size_t>(m.body[static_cast<std::size_t>(m.bi[b])]);
+    scale_min[body] = std::min(scale_min[body], m.strength_factor(b));
+  }
+  inv_ft.assign(bodies, 0.0);
+  inv_fc.assign(bodies, 0.0);
+  inv_mc.assign(bodies, 0.0);
+  for (std::size_t b = 0; b < bodies; ++b) {
+    const std::int32_t l = m.body_failure_law[b];
+    if (!use(b) || l < 0) continue;
+    const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
+    const double s = std::isfinite(scale_min[b]) ? scale_min[b] : 1.0;
+    const double ft = m.failure_laws[static_cast<std::size_t>(l)].f_t * s, fc = sp.mc.f_c * s;
+    const double mc = sp.mc.c * sp.mc.cos_phi * s;
+    if (ft > 0 && fc > 0 && mc > 0) {
+      inv_ft[b] = 1 / ft;
+      inv_fc[b] = 1 / fc;
+      inv_mc[b] = 1 / mc;
+    }
+  }
+}
+
+}  // namespace
 
 void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius) {
   NonlocalStrain& nl = m.nonlocal;
@@ -87,31 +121,34 @@ void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius) {
   nl.packed.assign(4 * n, 0.0);
   nl.cell_max.assign(static_cast<std::size_t>(nl.cells_x * nl.cells_y), 0.0);
   nl.hot.assign(nl.cell_max.size(), 0);
-  // Per body, the reciprocals of its smallest static thresholds: the strengths of its
-  // softening law times the smallest random-field factor of its bonds (the rate factors only
-  // raise them). 0 where a threshold is not positive: such a body's disks are always hot.
-  const std::size_t bodies = body_radius.size();
-  std::vector<double> scale_min(bodies, std::numeric_limits<double>::infinity());
-  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    const auto body = static_cast<std::size_t>(m.body[static_cast<std::size_t>(m.bi[b])]);
-    scale_min[body] = std::min(scale_min[body], m.strength_factor(b));
-  }
-  nl.body_inv_ft.assign(bodies, 0.0);
-  nl.body_inv_fc.assign(bodies, 0.0);
-  nl.body_inv_mc.assign(bodies, 0.0);
-  for (std::size_t b = 0; b < bodies; ++b) {
+  criterion_thresholds(m, [&](std::size_t b) { return body_radius[b] > 0; }, nl.body_inv_ft, nl.body_inv_fc,
+                       nl.body_inv_mc);
+}
+
+void build_local_criterion(Model& m) {
+  LocalCriterion& lc = m.local_criterion;
+  lc = LocalCriterion{};
+  if (!m.any_softening || !m.nonlocal.offset.empty()) return;
+  // The bodies whose bonds go through softening_bond (bond_forces): a law with G_F > 0.
+  const auto softening = [&](std::size_t b) {
     const std::int32_t l = m.body_failure_law[b];
-    if (!(body_radius[b] > 0) || l < 0) continue;
-    const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
-    const double s = std::isfinite(scale_min[b]) ? scale_min[b] : 1.0;
-    const double ft = m.failure_laws[static_cast<std::size_t>(l)].f_t * s, fc = sp.mc.f_c * s;
-    const double mc = sp.mc.c * sp.mc.cos_phi * s;
-    if (ft > 0 && fc > 0 && mc > 0) {
-      nl.body_inv_ft[b] = 1 / ft;
-      nl.body_inv_fc[b] = 1 / fc;
-      nl.body_inv_mc[b] = 1 / mc;
-    }
+    return l >= 0 && m.softening[static_cast<std::size_t>(l)].G_F > 0;
+  };
+  std::vector<double> inv_ft, inv_fc, inv_mc;
+  criterion_thresholds(m, softening, inv_ft, inv_fc, inv_mc);
+  lc.body.assign(inv_ft.size(), {});
+  for (std::size_t b = 0; b < lc.body.size(); ++b) {
+    if (!(inv_ft[b] > 0)) continue;  // no bound: far_below stays -infinity
+    const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body_failure_law[b])];
+    LocalCriterion::Body& p = lc.body[b];
+    p.lambda2 = sp.lambda2, p.lambda3 = sp.lambda3, p.mu = sp.mu, p.sin_phi = sp.mc.sin_phi;
+    p.inv_ft = inv_ft[b], p.inv_fc = inv_fc[b], p.inv_mc = inv_mc[b];
+    p.inv_max = std::max({p.inv_ft, p.inv_fc, p.inv_mc});
+    p.moduli = std::abs(sp.lambda2) + std::abs(sp.lambda3) + 2 * std::abs(sp.mu);
+    p.far_below = 1 - LocalCriterion::kMargin;
   }
+  lc.disk.assign(m.num_disks(), 2);
 }
 
 }  // namespace hexdem::solver
+

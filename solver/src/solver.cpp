@@ -67,8 +67,9 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
     if (!model_.hoop_cracks.damage.empty())
       model_.disk_strength_scale = lognormal_field(model_.x0, model_.y0, r.seed, r.correlation_length, r.strength_cov);
   }
-  // After the random field: the nonlocal bound reads the smallest strength factor.
+  // After the random field: the nonlocal and local bounds read the smallest strength factor.
   setup_nonlocal_strain();
+  build_local_criterion(model_);
   lap(setup_times_.random_field);
   setup_boundaries();
   setup_loads();

@@ -298,8 +298,10 @@ TEST(Restart, BadCheckpointsAreRefused) {
   expect_refused("hello", "not a hexdem checkpoint");
   expect_refused(good.substr(0, good.size() / 2), "checksum");
   std::string version = good;
-  version[8] = 11;  // the format version follows the 8-byte magic
-  expect_refused(version, "checkpoint format version 11, this hexdem reads version 10");
+  const int current = static_cast<unsigned char>(good[8]);  // the format version follows the 8-byte magic
+  version[8] = static_cast<char>(current + 1);
+  expect_refused(version, "checkpoint format version " + std::to_string(current + 1) + ", this hexdem reads version " +
+                              std::to_string(current));
   std::string flipped = good;
   flipped[flipped.size() / 2] ^= 1;
   expect_refused(flipped, "damaged or truncated checkpoint");

@@ -293,7 +293,7 @@ void forge(const std::string& from, const std::string& to, const std::function<v
     put(r.count);
     out += r.data;
   }
-  put(fnv1a(out.data(), out.size()));
+  put(hash_words(out.data(), out.size()));
   std::ofstream(to, std::ios::binary) << out;
 }
 

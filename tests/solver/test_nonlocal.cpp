@@ -160,6 +160,45 @@ TEST(NonlocalStrain, SkippingBondsFarFromEveryCriterionChangesNoBit) {
   EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
 }
 
+TEST(LocalCriterion, SkippingBondsFarFromEveryCriterionChangesNoBit) {
+  // The local criterion's bound (Model::local_criterion): the plate pulled apart at its top
+  // (cracks start and grow) with the bonds whose disks are far from every criterion skipped,
+  // and with every bond checked (no classes: the Model a test builds by hand), in the three
+  // geometries: the same bits.
+  for (const char* geometry : {"plane-stress", "plane-strain", "axisymmetric"}) {
+    SCOPED_TRACE(geometry);
+    std::string text = plate_case(11.0, "");
+    const std::string sets = "boundary = { bottom = \"base\" }";
+    text.replace(text.find(sets), sets.size(), "boundary = { bottom = \"base\", top = \"grip\" }");
+    text.replace(text.find("plane-stress"), 12, geometry);
+    if (std::string(geometry) == "axisymmetric") text.erase(text.find("thickness = 0.01\n"), 17);  // per radian
+    text += "[[boundary]]\nset = \"grip\"\ntype = \"velocity\"\nvy = 2.0\n[random]\nseed = 3\n"
+            "correlation_length = 4e-3\nstrength_cov = 0.15\n";
+    const Case c = parse_case(text, "plate.toml", ".");
+    const meshing::Lattice lattice = mesh_case(c);
+    Solver a(c, lattice), b(c, lattice);
+    ASSERT_EQ(a.model().local_criterion.disk.size(), a.model().num_disks());
+    b.model().local_criterion.disk.clear();
+    std::size_t far_disks = 0, near_disks = 0;
+    for (int k = 0; k < 500; ++k) {
+      ASSERT_TRUE(a.advance(k % 7 == 0));
+      ASSERT_TRUE(b.advance(k % 7 == 0));
+      const auto& cls = a.model().local_criterion.disk;
+      far_disks += static_cast<std::size_t>(std::count(cls.begin(), cls.end(), 1));
+      near_disks += static_cast<std::size_t>(std::count(cls.begin(), cls.end(), 2));
+    }
+    const Model& ma = a.model();
+    const Model& mb = b.model();
+    EXPECT_GT(std::count(ma.cracks.cracking.begin(), ma.cracks.cracking.end(), 1), 0) << "no crack started";
+    EXPECT_GT(far_disks, 100u * near_disks / 100) << "the bound skipped too little to be tested";
+    EXPECT_GT(near_disks, 0u) << "no disk came near a criterion";
+    EXPECT_TRUE(ma.ux == mb.ux && ma.uy == mb.uy && ma.f_n == mb.f_n && ma.f_s == mb.f_s &&
+                ma.cracks.damage == mb.cracks.damage && ma.cracks.cracking == mb.cracks.cracking);
+    EXPECT_EQ(a.energy().total(), b.energy().total());
+    EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
+  }
+}
+
 TEST(NonlocalStrain, BadRadiiAreRefused) {
   const auto refused = [](const std::string& key, const std::string& needle) {
     try {

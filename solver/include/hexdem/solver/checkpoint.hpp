@@ -37,7 +37,7 @@ namespace hexdem::solver {
 /// 7: the Drucker-Prager disks (model.j2_alpha).
 /// 8: no stored neighbour per adjacency entry, no shear displacement in an elastic lattice.
 /// 9: the slip of a softening shear crack's faces in the failed bonds' rows (FailedBond::slip).
-inline constexpr std::uint32_t kCheckpointVersion = 10;
+inline constexpr std::uint32_t kCheckpointVersion = 11;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {
@@ -54,8 +54,15 @@ struct RunState {
   std::uint64_t energy_hash = 0, probes_hash = 0, bodies_hash = 0, reactions_hash = 0;
 };
 
-/// FNV-1a 64-bit hash of bytes (also the file's checksum).
+/// FNV-1a 64-bit hash of bytes (the case's text and the CSVs' prefixes).
 std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 14695981039346656037ull);
+
+/// 64-bit hash of bytes taken 8 at a time (the lattice's fingerprint and the file's checksum):
+/// h = (h xor w) * 0x9e3779b97f4a7c15, then h xor= h >> 32, per little-endian word w; the last
+/// size mod 8 bytes as FNV-1a. Each step is a bijection of h, so two inputs of one length that
+/// differ in one word always hash apart. About 5 times as fast as FNV-1a, which takes a byte per
+/// multiply (0.09 s of the set-up at 1,000,000 disks).
+std::uint64_t hash_words(const void* data, std::size_t size, std::uint64_t h = 14695981039346656037ull);
 
 /// Hash of the case as run: its effective TOML text (Case::effective_toml, the file with
 /// every --set applied), or, for a Case built in code, its name and source.

@@ -148,6 +148,39 @@ struct NonlocalStrain {
   [[nodiscard]] bool disk_hot(std::size_t i) const { return (hot[static_cast<std::size_t>(cell[i])] & 1) != 0; }
 };
 
+/// Where the local criterion of softening bonds (softening_bond) cannot fire: a bond's
+/// continuum stress is C : (eps_i + eps_j) / 2 (or one disk's, where only one has a full
+/// neighbourhood), and each criterion (Rankine, crushing, Mohr-Coulomb) is convex in the stress,
+/// so at the bond it is at most the larger of its values at the two disks. The strain pass
+/// classifies each disk by its own stress against its body's smallest static thresholds (the
+/// rate factors only raise them); a bond whose disks are all far is not checked: the same bits
+/// as checking it. Empty unless a softening material uses the local criterion (no
+/// nonlocal_radius); a Model built without the Solver has none and checks every bond.
+struct LocalCriterion {
+  /// Margin below the thresholds [-], far above the rounding of the few operations between the
+  /// disks' stresses and the bond's (1e-15 of the stresses' terms, which far() bounds).
+  static constexpr double kMargin = 1e-6;
+  /// Per body, what the classification reads: its softening law's continuum constants and the
+  /// reciprocals of its smallest static thresholds.
+  struct Body {
+    double lambda2 = 0, lambda3 = 0, mu = 0;  ///< SofteningParams' [Pa]
+    double sin_phi = 0;                       ///< [-]
+    double inv_ft = 0, inv_fc = 0, inv_mc = 0;  ///< 1 / the smallest thresholds [1/Pa]
+    double inv_max = 0;                         ///< the largest of them [1/Pa]
+    double moduli = 0;                          ///< |lambda2| + |lambda3| + 2 |mu| [Pa]
+    /// 1 - kMargin where the body has a bound, -infinity where not (its disks are always near).
+    double far_below = -std::numeric_limits<double>::infinity();
+  };
+  std::vector<Body> body;
+  /// Per disk (work space of the strain pass): 0 without a full neighbourhood (six bonds in the
+  /// initial lattice and a fit), 1 full and far from every criterion, 2 full and near (or not
+  /// finite).
+  std::vector<std::uint8_t> disk;
+  /// Bond (i, j) cannot fire: no disk near and at least one full (two without a full
+  /// neighbourhood use the bond criterion of Eq. 19 on their forces).
+  [[nodiscard]] bool far(std::size_t i, std::size_t j) const { return (disk[i] | disk[j]) == 1; }
+};
+
 /// The crack state of softening bonds (docs/model.md, "Fracture energy and softening"), per
 /// bond; allocated only when some material has a fracture energy.
 struct BondCracks {
@@ -222,6 +255,7 @@ struct Model {
   bool uses_strains = false;
   LocalStrain strain;
   NonlocalStrain nonlocal;
+  LocalCriterion local_criterion;
   OutOfPlane hoop;
   std::vector<double> vx_old, vy_old, omega_old;  ///< velocities at t - 3dt/2 after a step
 
@@ -471,6 +505,9 @@ std::size_t compute_internal_forces(Model& m, double dt);
 /// Builds Model::nonlocal with the averaging radius R [m] of each body (0: none), after the
 /// strain fits (nonlocal.cpp).
 void build_nonlocal_strain(Model& m, const std::vector<double>& body_radius);
+/// Builds Model::local_criterion where softening bonds use the local criterion (some material
+/// with a fracture energy and no nonlocal radius), after the random field (nonlocal.cpp).
+void build_local_criterion(Model& m);
 
 /// The same forces for the critical-step estimate (Solver::finite_omega2_max), on a state
 /// whose bonds' history has just been reset: the rotation model's shear increments are the

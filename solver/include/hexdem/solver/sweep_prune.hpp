@@ -162,7 +162,8 @@ class SweepPrune {
   void init_ends();
   void finish_exclusions();
   void set_box(std::size_t i, double x, double y, double r);
-  void sort_all();
+  void sort_all(bool fresh);
+  void radix_sort_ends(std::vector<EndPoint>& ends) const;
   void find_all_pairs();
   void sift(int axis, std::uint32_t slot);
   bool apply_flips();
