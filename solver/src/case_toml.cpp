@@ -687,9 +687,14 @@ void Reader::for_each_table(const toml::table& root, std::string_view key, F&& f
   if (node == nullptr) return;
   const toml::array* list = node->as_array();
   if (list != nullptr && list->empty()) return;
-  if (list == nullptr || !list->is_array_of_tables())
+  if (list == nullptr || !list->is_array_of_tables()) {
+    // A --set that named a table of a missing array made a plain table: say how to add one.
+    const toml::source_region& r = node->source();
+    const bool from_set = r.path != nullptr && r.path->rfind("--set ", 0) == 0;
     fail(*node, std::string(key),
-         "expected [[" + std::string(key) + "]] tables (got " + describe(*node) + ")");
+         "expected [[" + std::string(key) + "]] tables (got " + describe(*node) + ")" +
+             (from_set ? "; --set '" + std::string(key) + "+={...}' adds a table" : std::string()));
+  }
   for (std::size_t i = 0; i < list->size(); ++i) f(*list->get(i)->as_table(), item(key, i), i);
 }
 
@@ -1122,7 +1127,9 @@ void apply_override(toml::table& root, const std::string& spec, const std::strin
   auto fail = [&](const std::string& problem) -> void { throw InputError(source_name + ": " + label + ": " + problem); };
   const std::size_t eq = spec.find('=');
   if (eq == std::string::npos) fail("expected KEY=VALUE, e.g. time.end=2e-4");
-  const std::string key = spec.substr(0, eq), value = spec.substr(eq + 1);
+  // KEY+=VALUE appends VALUE, an inline table or an array of them, to the array of tables KEY.
+  const bool append = eq > 0 && spec[eq - 1] == '+';
+  const std::string key = spec.substr(0, append ? eq - 1 : eq), value = spec.substr(eq + 1);
   std::vector<std::string> parts;
   for (std::size_t at = 0;;) {
     const std::size_t dot = key.find('.', at);
@@ -1141,6 +1148,64 @@ void apply_override(toml::table& root, const std::string& spec, const std::strin
   std::string dotted;
   for (const std::string& part : parts) dotted += (dotted.empty() ? "" : ".") + toml_string(part);
   toml::table doc;
+  if (append) {
+    // The new tables, checked before anything is changed.
+    try {
+      doc = toml::parse(dotted + " = " + value, label);
+    } catch (const toml::parse_error& e) {
+      fail("expected an inline table such as {name = \"tip\", point = [0, 0.01]} after '+=' (" +
+           std::string(e.description()) + ")");
+    }
+    toml::table* parent = &doc;
+    for (std::size_t q = 0; q + 1 < parts.size(); ++q) parent = parent->get(parts[q])->as_table();
+    toml::node* made = parent->get(parts.back());
+    toml::array tables;
+    if (made->is_table()) {
+      tables.push_back(std::move(*made->as_table()));
+    } else if (toml::array* a = made->as_array(); a != nullptr && !a->empty() && a->is_array_of_tables()) {
+      tables = std::move(*a);
+    } else {
+      fail("expected an inline table such as {name = \"tip\", point = [0, 0.01]} after '+=' (got " +
+           describe(*made) + ")");
+    }
+    // The array of tables the key names, walked as below; missing parts are created.
+    toml::table* dst = &root;
+    std::string path;
+    for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+      path = child(path, parts[k]);
+      toml::node* existing = dst->get(parts[k]);
+      if (existing == nullptr) {
+        dst->insert(parts[k], toml::table{});
+        existing = dst->get(parts[k]);
+      }
+      if (toml::table* t = existing->as_table()) {
+        dst = t;
+        continue;
+      }
+      toml::array* list = existing->as_array();
+      if (list == nullptr || !list->is_array_of_tables() || k + 2 >= parts.size())
+        fail("'" + path + "' is a value (" + describe(*existing) + "), not a table");
+      std::string choices;
+      toml::table* chosen = select_table(*list, parts[k + 1], choices);
+      if (chosen == nullptr) fail("no [[" + path + "]] table '" + parts[k + 1] + "' (" + choices + ")");
+      dst = chosen;
+      path = child(path, parts[k + 1]);
+      ++k;
+    }
+    const std::string& last = parts.back();
+    path = child(path, last);
+    toml::node* existing = dst->get(last);
+    if (existing == nullptr) {
+      dst->insert(last, std::move(tables));
+      return;
+    }
+    toml::array* list = existing->as_array();
+    if (list == nullptr || !(list->empty() || list->is_array_of_tables()))
+      fail("'" + path + "' is not an array of tables (" + describe(*existing) + "): '+=' appends tables to [[" + path +
+           "]]");
+    for (toml::node& t : tables) list->push_back(std::move(*t.as_table()));
+    return;
+  }
   try {
     doc = toml::parse(dotted + " = " + value, label);
   } catch (const toml::parse_error&) {
@@ -1173,7 +1238,9 @@ void apply_override(toml::table& root, const std::string& spec, const std::strin
       fail("'" + path + "." + selector + "' selects a whole [[" + part + "]] table; give one of its keys");
     std::string choices;
     toml::table* chosen = select_table(*list, selector, choices);
-    if (chosen == nullptr) fail("no [[" + path + "]] table '" + selector + "' (" + choices + ")");
+    if (chosen == nullptr)
+      fail("no [[" + path + "]] table '" + selector + "' (" + choices + "); '" + path +
+           "+={...}' adds one");
     dst = chosen;
     src = it->second.as_table()->get(selector)->as_table();
     path = child(path, selector);

@@ -445,6 +445,45 @@ TEST(Overrides, BadOverridesGiveOneLineAndNoOutput) {
   EXPECT_NE(slurp(d / "out" / "plate.case.toml").find("type = 'roller'"), std::string::npos);
 }
 
+TEST(Overrides, PlusEqualsAddsTablesToAnArrayOfTables) {
+  const fs::path d = test_dir("cli_workflow", true);
+  const fs::path c = write(d, "plate.toml", plate_case("plane-stress"));
+  // One table, then two at once; the new probes get their columns and the effective case
+  // repeats the run alone.
+  Result r = run_hexdem(d, "run " + c.string() + " -o " + (d / "a").string() +
+                               " -q --set time.end=3e-6 --set output.checkpoint_interval=0"
+                               " --set 'probe+={name = \"mid\", point = [0.004, 0.0]}'"
+                               " --set 'probe+=[{name = \"p1\", point = [0.001, 0.001]}, {name = \"p2\", point = [0.003, 0.001]}]'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string probes = slurp(d / "a" / "plate.probes.csv");
+  const std::string header = probes.substr(0, probes.find('\n'));
+  for (const char* name : {"top.", "mid.", "p1.", "p2."}) EXPECT_NE(header.find(name), std::string::npos) << name << ": " << header;
+  r = run_hexdem(d, "run " + (d / "a" / "plate.case.toml").string() + " -o " + (d / "b").string() + " -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(probes, slurp(d / "b" / "plate.probes.csv"));
+  // A table into a missing array creates it (walls: none in the file).
+  r = run_hexdem(d, "check " + c.string() + " --set 'wall+={point = [0.0, -1.0], normal = [0.0, 1.0]}'");
+  EXPECT_EQ(r.code, 0) << r.err;
+  // Refused with one line, nothing written.
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"probe+=3", "--set probe+=3: expected an inline table such as {name = \"tip\", point = [0, 0.01]} after '+=' (got 3)"},
+      {"probe+={name = ", "expected an inline table such as"},
+      {"time.end+={a = 1}", "'time.end' is not an array of tables"},
+      {"probe.p9.point=[0.0, 0.0]", "no [[probe]] table 'p9' (name 'top'); 'probe+={...}' adds one"},
+      {"wall.w.point=[0.0, 0.0]", "expected [[wall]] tables (got "},
+      {"probe+={name = \"top\", point = [0.004, 0.0]}", "top"},  // a second probe of one name
+  };
+  for (const auto& [spec, message] : bad) {
+    r = run_hexdem(d, "run " + c.string() + " -o " + (d / "out").string() + " -q --set '" + spec + "'");
+    EXPECT_EQ(r.code, 2) << spec;
+    EXPECT_EQ(count_lines(r.err), 1) << spec << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << spec << ": " << r.err;
+    EXPECT_FALSE(fs::exists(d / "out")) << spec << ": no output for a refused case";
+  }
+  r = run_hexdem(d, "run " + c.string() + " -o " + (d / "out").string() + " -q --set 'wall.w.point=[0.0, 0.0]'");
+  EXPECT_NE(r.err.find("--set 'wall+={...}' adds a table"), std::string::npos) << r.err;
+}
+
 // ---- check --------------------------------------------------------------------------------
 
 TEST(Check, PrintsTheSummaryWithoutRunning) {
