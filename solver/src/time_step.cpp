@@ -220,7 +220,8 @@ double Solver::finite_omega2_max(int max_iterations) {
 // band's estimate may miss the bulk's modes, and then the Bloch step binds (choose_time_step).
 // The estimate costs the band's share of the whole model's: 4 % of it for a square of
 // 1,000,000 disks.
-std::optional<double> Solver::band_omega2_max(int width, int halo, std::size_t* band_disks, int max_iterations) {
+std::optional<double> Solver::band_omega2_max(int width, int halo, std::size_t* band_disks, int max_iterations,
+                                              const std::function<void(std::size_t)>& before_build) {
   const Model& m = model_;
   // The sub-model needs the bonds' stiffness per spring kind (plane models): an axisymmetric
   // model's rings differ from disk to disk, so its whole model is its band.
@@ -257,6 +258,7 @@ std::optional<double> Solver::band_omega2_max(int width, int halo, std::size_t* 
     }
   }
   if (2 * queue.size() > n) return std::nullopt;  // the band would save little
+  if (before_build) before_build(queue.size());
   // The band's disks in the whole model's order (so bi < bj is kept), and which are held.
   std::vector<std::int32_t>& band = queue;
   std::sort(band.begin(), band.end());
@@ -320,19 +322,27 @@ double Solver::finite_estimate() {
   // The model is at rest and has no forces yet (the first step computes them; the whole
   // model's estimate leaves its probe's in them): its state, force and strain arrays hold
   // zeros, released while the band's model exists so that it does not add to the run's peak
-  // memory, and given back as zeros.
+  // memory, and given back as zeros. Not where the contacts' broad phase follows (set up
+  // next, about 170 bytes per disk at 1,000,000 disks) and the band holds at most a fifth of
+  // the disks (its model, with its Lanczos vectors, about 70 bytes per disk of the whole
+  // model at a tenth): the peak comes later, and giving the arrays back costs their first
+  // touches again (0.1-0.2 s at 1,000,000 disks; docs/benchmarks.md, "Set-up").
   Model& m = model_;
+  const bool contacts_follow = case_.outline.bodies.size() > 1 || m.any_breakable;  // setup_contacts' rule
   std::vector<std::pair<std::vector<double>*, std::size_t>> zeros;
-  for (auto* a : {&m.ux, &m.uy, &m.theta, &m.vx, &m.vy, &m.omega, &m.vx_old, &m.vy_old, &m.omega_old, &m.fx, &m.fy,
-                  &m.torque, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.pair_fx, &m.pair_fy, &m.strain.eps_xx, &m.strain.eps_yy,
-                  &m.strain.eps_xy, &m.strain.w_xx, &m.strain.w_xy, &m.strain.w_yx, &m.strain.w_yy}) {
-    if (!a->empty() && std::all_of(a->begin(), a->end(), [](double x) { return x == 0.0; })) {
-      zeros.emplace_back(a, a->size());
-      std::vector<double>().swap(*a);
+  const auto release = [&](std::size_t band_size) {
+    if (contacts_follow && 5 * band_size <= m.num_disks()) return;
+    for (auto* a : {&m.ux, &m.uy, &m.theta, &m.vx, &m.vy, &m.omega, &m.vx_old, &m.vy_old, &m.omega_old, &m.fx, &m.fy,
+                    &m.torque, &m.f_n, &m.f_s, &m.nx, &m.ny, &m.pair_fx, &m.pair_fy, &m.strain.eps_xx, &m.strain.eps_yy,
+                    &m.strain.eps_xy, &m.strain.w_xx, &m.strain.w_xy, &m.strain.w_yx, &m.strain.w_yy}) {
+      if (!a->empty() && std::all_of(a->begin(), a->end(), [](double x) { return x == 0.0; })) {
+        zeros.emplace_back(a, a->size());
+        std::vector<double>().swap(*a);
+      }
     }
-  }
+  };
   std::size_t band = 0;
-  std::optional<double> band_w2 = band_omega2_max(kBandWidth, kBandHalo, &band);
+  std::optional<double> band_w2 = band_omega2_max(kBandWidth, kBandHalo, &band, 200, release);
   for (auto [a, size] : zeros) a->assign(size, 0.0);
   // An edge mode decays into the bulk the more slowly the nearer it lies to the bulk's top
   // (its decay rate goes as the square root of the distance): one within 2 % of the largest

@@ -190,8 +190,11 @@ public:
   /// or mirrored disk, a disk whose cell is not the whole hexagon), with `halo` rings of held
   /// disks around it. Empty when the band does not apply (axisymmetric models, bonds with
   /// their own stiffness) or holds more than half the disks. `band_disks` receives the band's size (disks free to move).
+  /// `before_build`, if given, is called with the number of the band's disks (the halo
+  /// included) once they are chosen, before the band's model is built.
   [[nodiscard]] std::optional<double> band_omega2_max(int width, int halo, std::size_t* band_disks = nullptr,
-                                                      int max_iterations = 200);
+                                                      int max_iterations = 200,
+                                                      const std::function<void(std::size_t)>& before_build = {});
   /// Disks of the model the critical step's Lanczos estimate ran on (the edge band or all).
   [[nodiscard]] std::size_t finite_estimate_disks() const { return finite_disks_; }
 
