@@ -819,51 +819,51 @@ int run_case(const Case& c, const RunOptions& options) {
   const StopSignals stop_signals;
   int stopped_by = 0;
   try {
-  for (std::int64_t n = first_step; n <= steps; ++n) {
-    const double t = static_cast<double>(n) * dt;
-    const bool last = n == steps;
-    frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
-    probe = (!c.probes.empty() || !c.output.body_history.empty() || !c.output.reactions.empty()) &&
-            (n == 0 || last || t >= next_probe - 0.5 * dt);
-    energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
-    const bool check = energy_row || n % 50 == 0;
-    ok = solver.advance(check, at_tn);
-    if (!warned && !solver.energy_warning().empty()) {
-      warned = true;
-      std::fprintf(stderr, "%shexdem: warning: %s\n", options.progress ? "\n" : "", solver.energy_warning().c_str());
-    }
-    if (!ok) break;
-    if (frame_dt > 0) next_frame = next_output_time(next_frame, frame_dt, t + 0.5 * dt);
-    if (probe) next_probe = next_output_time(next_probe, probe_dt > 0 ? probe_dt : dt, t + 0.5 * dt);
-    // A checkpoint holds the state after step n (at t_{n+1}), with this step's output done.
-    if (checkpoint_dt > 0 && !last && t >= next_checkpoint - 0.5 * dt) {
-      next_checkpoint = next_output_time(next_checkpoint, checkpoint_dt, t + 0.5 * dt);
-      const auto t0 = std::chrono::steady_clock::now();
-      run.next_frame = next_frame;
-      run.next_probe = next_probe;
-      run.next_checkpoint = next_checkpoint;
-      run.max_error = max_error;
-      out.save_state(run);
-      write_checkpoint(checkpoint_path, solver, run);
-      output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    if (options.progress) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report >= report_interval || last) {
-        last_report = now;
-        const double wall = std::chrono::duration<double>(now - wall0).count();
-        const double done = static_cast<double>(n - first_step);
-        const double eta = done > 0 ? wall / done * static_cast<double>(steps - n) : 0.0;
-        std::fprintf(stderr, "\r  step %lld/%lld  t = %.4e s  wall %.1f s  ETA %.1f s   ",
-                     static_cast<long long>(n), static_cast<long long>(steps), t, wall, eta);
-        if (last) std::fprintf(stderr, "\n");
+    for (std::int64_t n = first_step; n <= steps; ++n) {
+      const double t = static_cast<double>(n) * dt;
+      const bool last = n == steps;
+      frame = c.output.frames && (n == 0 || last || (frame_dt > 0 && t >= next_frame - 0.5 * dt));
+      probe = (!c.probes.empty() || !c.output.body_history.empty() || !c.output.reactions.empty()) &&
+              (n == 0 || last || t >= next_probe - 0.5 * dt);
+      energy_row = frame || last || n == 0 || (frame_dt > 0 && t >= next_frame - 0.5 * dt);
+      const bool check = energy_row || n % 50 == 0;
+      ok = solver.advance(check, at_tn);
+      if (!warned && !solver.energy_warning().empty()) {
+        warned = true;
+        std::fprintf(stderr, "%shexdem: warning: %s\n", options.progress ? "\n" : "", solver.energy_warning().c_str());
+      }
+      if (!ok) break;
+      if (frame_dt > 0) next_frame = next_output_time(next_frame, frame_dt, t + 0.5 * dt);
+      if (probe) next_probe = next_output_time(next_probe, probe_dt > 0 ? probe_dt : dt, t + 0.5 * dt);
+      // A checkpoint holds the state after step n (at t_{n+1}), with this step's output done.
+      if (checkpoint_dt > 0 && !last && t >= next_checkpoint - 0.5 * dt) {
+        next_checkpoint = next_output_time(next_checkpoint, checkpoint_dt, t + 0.5 * dt);
+        const auto t0 = std::chrono::steady_clock::now();
+        run.next_frame = next_frame;
+        run.next_probe = next_probe;
+        run.next_checkpoint = next_checkpoint;
+        run.max_error = max_error;
+        out.save_state(run);
+        write_checkpoint(checkpoint_path, solver, run);
+        output_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+      if (options.progress) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_report >= report_interval || last) {
+          last_report = now;
+          const double wall = std::chrono::duration<double>(now - wall0).count();
+          const double done = static_cast<double>(n - first_step);
+          const double eta = done > 0 ? wall / done * static_cast<double>(steps - n) : 0.0;
+          std::fprintf(stderr, "\r  step %lld/%lld  t = %.4e s  wall %.1f s  ETA %.1f s   ",
+                       static_cast<long long>(n), static_cast<long long>(steps), t, wall, eta);
+          if (last) std::fprintf(stderr, "\n");
+        }
+      }
+      if (g_stop_signal != 0 && !last) {
+        stopped_by = g_stop_signal;
+        break;
       }
     }
-    if (g_stop_signal != 0 && !last) {
-      stopped_by = g_stop_signal;
-      break;
-    }
-  }
   } catch (const InputError& e) {
     // An output that could not be written mid-run: the status says so where it still can
     // (it said "running"), and the error goes on (exit 2, one line).
