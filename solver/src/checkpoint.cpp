@@ -532,6 +532,30 @@ class Shapes : public Prefixed<Shapes> {
   std::map<std::string, std::size_t> sizes;
 };
 
+/// The first value of a stored vector of doubles (a state record) that is not finite: the
+/// state of a run that passed its run-health checks has none (positions, velocities, forces,
+/// strains, the laws' history and energies), so a forged one is a damaged checkpoint, not a
+/// blow-up of the restarted run.
+class NonFinite : public Prefixed<NonFinite> {
+ public:
+  template <class T>
+  void state(const char* name, const T& value) {
+    if constexpr (is_vector<T>::value) {
+      if constexpr (is_vector<typename T::value_type>::value) {
+        for (std::size_t r = 0; r < value.size(); ++r) state((std::string(name) + "." + std::to_string(r)).c_str(), value[r]);
+      } else if constexpr (std::is_same_v<typename T::value_type, double>) {
+        for (std::size_t k = 0; k < value.size() && found.empty(); ++k)
+          if (!std::isfinite(value[k]))
+            found = "record '" + prefix_ + name + "' element " + std::to_string(k) + " is " + number(value[k]) +
+                    ", not finite";
+      }
+    }
+  }
+  template <class T>
+  void rebuilt(const char*, const T&) {}
+  std::string found;
+};
+
 /// Records whose length changes during a run: not compared with the fresh solver's.
 bool variable_length(const std::string& name) { return name == "contacts" || name == "model.failed_rows"; }
 
@@ -596,6 +620,11 @@ void CheckpointAccess::check_restored(const Solver& s, const Built& b, const Run
                                          std::tuple{"model.any_j2", m.any_j2, b.any_j2},
                                          std::tuple{"contacts_on", s.contacts_on_, b.contacts_on}})
     c.same(name, got, built);
+
+  // Values: every stored vector of doubles finite.
+  NonFinite non_finite;
+  visit_solver(s, non_finite);
+  if (!non_finite.found.empty()) c.fail(non_finite.found);
 
   // Indices and enumerated values.
   const auto n = static_cast<std::int64_t>(m.num_disks()), nb = static_cast<std::int64_t>(m.num_bonds());

@@ -409,6 +409,10 @@ TEST(Checkpoint, ForgedContentWithAValidChecksumIsRefused) {
       {"frame of another folder", set_text("run.frame_files", "impact/impact_000000000.vtu\nimpact/../impact/impact_000000005.vtu\n"),
        "record 'run.frame_files' line 2"},
       {"duplicate record", [](std::vector<RawRecord>& r) { r.push_back(record(r, "step")); }, "record 'step' appears twice"},
+      {"NaN displacement", set_element<double>("model.ux", 7, nan), "record 'model.ux' element 7 is nan, not finite"},
+      {"infinite velocity", set_element<double>("model.vy", 2, std::numeric_limits<double>::infinity()),
+       "record 'model.vy' element 2 is inf, not finite"},
+      {"NaN shear force", set_element<double>("model.f_s", 0, nan), "record 'model.f_s' element 0 is nan, not finite"},
   };
   const Solver fresh(c, lattice);
   for (const Forgery& f : forgeries) {
