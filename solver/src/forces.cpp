@@ -152,8 +152,9 @@ void disk_strain(Model& m, std::size_t i) {
 /// neighbourhood (softening_bond's "full"), 1 where relative_criterion (at the square root's
 /// bracket) stays below 1 - margin of its body's thresholds and the stress's terms before they
 /// cancel are small enough that their rounding (1e-15 of them) stays far below the margin,
-/// else 2. Branch-free over SoA arrays, so that the compiler vectorises it, square root
-/// included (once per disk in a dependent chain, it cost as much as the strain fit).
+/// else 2. A pass of its own, branch-free over the strain arrays (inside the strain fit's loop,
+/// once per disk after the fit's dependent chain, it cost as much as the fit itself; g++ does
+/// not vectorise it: the body's constants are a gather).
 template <bool Axisym>
 void classify_local_criterion(Model& m) {
   const LocalCriterion& lc = m.local_criterion;

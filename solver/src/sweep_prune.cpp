@@ -12,7 +12,6 @@
 #include "hexdem/solver/sweep_prune.hpp"
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cmath>
 #include <string>
