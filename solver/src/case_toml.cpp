@@ -1156,18 +1156,19 @@ void apply_override(toml::table& root, const std::string& spec, const std::strin
       fail("expected an inline table such as {name = \"tip\", point = [0, 0.01]} after '+=' (" +
            std::string(e.description()) + ")");
     }
-    toml::table* parent = &doc;
-    for (std::size_t q = 0; q + 1 < parts.size(); ++q) parent = parent->get(parts[q])->as_table();
-    toml::node* made = parent->get(parts.back());
-    toml::array tables;
-    if (made->is_table()) {
-      tables.push_back(std::move(*made->as_table()));
-    } else if (toml::array* a = made->as_array(); a != nullptr && !a->empty() && a->is_array_of_tables()) {
-      tables = std::move(*a);
-    } else {
+    const auto parent_of = [&](toml::table& d) {
+      toml::table* parent = &d;
+      for (std::size_t q = 0; q + 1 < parts.size(); ++q) parent = parent->get(parts[q])->as_table();
+      return parent;
+    };
+    const auto value_of = [&](toml::table& d) { return parent_of(d)->get(parts.back()); };
+    // One table is parsed again as an array of one, so that the array, as its tables, carries
+    // the --set's name into the reader's messages.
+    if (value_of(doc)->is_table()) doc = toml::parse(dotted + " = [" + value + "]", label);
+    toml::array* tables = value_of(doc)->as_array();
+    if (tables == nullptr || tables->empty() || !tables->is_array_of_tables())
       fail("expected an inline table such as {name = \"tip\", point = [0, 0.01]} after '+=' (got " +
-           describe(*made) + ")");
-    }
+           describe(*value_of(doc)) + ")");
     // The array of tables the key names, walked as below; missing parts are created.
     toml::table* dst = &root;
     std::string path;
@@ -1196,14 +1197,16 @@ void apply_override(toml::table& root, const std::string& spec, const std::strin
     path = child(path, last);
     toml::node* existing = dst->get(last);
     if (existing == nullptr) {
-      dst->insert(last, std::move(tables));
+      // With the parsed key, whose source names the --set in the reader's messages.
+      const auto parsed = parent_of(doc)->find(last);
+      dst->insert(parsed->first, std::move(*tables));
       return;
     }
     toml::array* list = existing->as_array();
     if (list == nullptr || !(list->empty() || list->is_array_of_tables()))
       fail("'" + path + "' is not an array of tables (" + describe(*existing) + "): '+=' appends tables to [[" + path +
            "]]");
-    for (toml::node& t : tables) list->push_back(std::move(*t.as_table()));
+    for (toml::node& t : *tables) list->push_back(std::move(*t.as_table()));
     return;
   }
   try {

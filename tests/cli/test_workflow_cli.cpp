@@ -469,6 +469,7 @@ TEST(Overrides, PlusEqualsAddsTablesToAnArrayOfTables) {
       {"probe+=3", "--set probe+=3: expected an inline table such as {name = \"tip\", point = [0, 0.01]} after '+=' (got 3)"},
       {"probe+={name = ", "expected an inline table such as"},
       {"time.end+={a = 1}", "'time.end' is not an array of tables"},
+      {"material.1.foo+={a = 1}", "--set material.1.foo+={a = 1}: material[0]: unknown key 'foo'"},
       {"probe.p9.point=[0.0, 0.0]", "no [[probe]] table 'p9' (name 'top'); 'probe+={...}' adds one"},
       {"wall.w.point=[0.0, 0.0]", "expected [[wall]] tables (got "},
       {"probe+={name = \"top\", point = [0.004, 0.0]}", "top"},  // a second probe of one name
