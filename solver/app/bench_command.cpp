@@ -1,4 +1,4 @@
-// `hexdem bench --disks N --model M [--failure] [--contacts] --steps S --threads T [--order O]`: the speed
+// `hexdem bench --disks N --model M [--failure [--softening]] [--contacts] --steps S --threads T [--order O]`: the speed
 // and memory of the solver's time step on a square block of concrete (docs/benchmarks.md,
 // "Solver step: `hexdem bench`").
 #include <CLI/CLI.hpp>
@@ -39,6 +39,7 @@ struct BenchArgs {
   std::string threads = "1";
   std::string order = "rows";
   bool failure = false;
+  bool softening = false;
   bool contacts = false;
 };
 
@@ -111,6 +112,7 @@ int run_bench(const BenchArgs& a) {
   } else if (a.order != "rows") {
     throw InputError("--order: unknown order '" + a.order + "' (expected rows or hilbert)");
   }
+  if (a.softening && !a.failure) throw InputError("--softening: needs --failure (the softening law is a failure law)");
   omp_set_num_threads(threads);
 
   // A square block of nx disks per row and ny rows (about disks_wanted in all), bottom row
@@ -145,6 +147,9 @@ int run_bench(const BenchArgs& a) {
     mat.compressive_strength = 30e6;
     mat.cohesion = 6e6;
     mat.friction_angle = 30;
+    // --softening: the softening law (docs/model.md, "Fracture energy and softening") with the
+    // local criterion, whose bound skips the checks of bonds far from every criterion.
+    if (a.softening) mat.fracture_energy = 100.0;
   }
   c.materials.push_back(mat);
   const auto add_body = [&](const std::string& name, double y0, double y1) {
@@ -204,8 +209,10 @@ int run_bench(const BenchArgs& a) {
               solver::shear_model_name(shear));
   std::printf("  disks %zu (%lld rows of %lld, r = %.3g m), bonds %zu, bodies %zu\n", n_disks,
               static_cast<long long>(ny), static_cast<long long>(nx), r, n_bonds, s.lattice().body_names.size());
-  std::printf("  failure %s\n", a.failure ? "on (f_t 3 MPa, f_c 30 MPa, c 6 MPa, phi 30 deg: checked on every bond)"
-                                          : "off (elastic bonds)");
+  std::printf("  failure %s\n", !a.failure   ? "off (elastic bonds)"
+                                : a.softening ? "on, softening (G_F 100 J/m^2, f_t 3 MPa, f_c 30 MPa, c 6 MPa, phi 30 deg: "
+                                                "the local criterion and its bound)"
+                                              : "on (f_t 3 MPa, f_c 30 MPa, c 6 MPa, phi 30 deg: checked on every bond)");
   std::printf("  contacts %s\n", !s.contacts_enabled() ? "off"
                                  : a.contacts          ? "on (sweep and prune: two bodies touching along a row)"
                                                        : "on (sweep and prune: bonds can break)");
@@ -253,6 +260,7 @@ Subcommand add_bench_command(CLI::App& app) {
   cmd->add_option("--disks", args->disks, "About this many disks, 10..3e8 (default 100000)");
   cmd->add_option("--model", args->model, "Shear model: rotation or local-strain (default local-strain)");
   cmd->add_flag("--failure", args->failure, "Breakable bonds: the failure checks run (strengths too high for breaks)");
+  cmd->add_flag("--softening", args->softening, "With --failure: the softening law (fracture energy 100 J/m^2)");
   cmd->add_flag("--contacts", args->contacts, "Two bodies in contact: the contact detection runs every step");
   cmd->add_option("--steps", args->steps, "Time steps to run and time, >= 1 (default 1000)");
   cmd->add_option("--threads", args->threads, "OpenMP threads, 1..1024 (default 1)");

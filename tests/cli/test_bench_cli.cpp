@@ -61,7 +61,7 @@ void expect_figures(const std::string& options) {
 TEST(BenchCli, Help) {
   const Result r = run_hexdem(work_dir(), "bench --help");
   EXPECT_EQ(r.code, 0);
-  for (const char* option : {"--disks", "--model", "--failure", "--contacts", "--steps", "--threads", "--order"})
+  for (const char* option : {"--disks", "--model", "--failure", "--softening", "--contacts", "--steps", "--threads", "--order"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
 }
 
@@ -86,6 +86,15 @@ TEST(BenchCli, LocalStrainWithFailureAndContacts) {
   EXPECT_NE(r.out.find("broken bonds 0,"), std::string::npos) << "the strengths are above the block's stresses: " << r.out;
 }
 
+TEST(BenchCli, SofteningWithContacts) {
+  // The softening law's bond pass: the bound skips the checks, nothing cracks in the block.
+  expect_figures("--model local-strain --failure --softening --contacts");
+  const Result r = run_hexdem(work_dir(), "bench --disks 2000 --steps 20 --threads 1 --failure --softening --contacts");
+  EXPECT_NE(r.out.find("failure on, softening"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("broken bonds 0,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("model.damage"), std::string::npos) << "the census shows the crack state: " << r.out;
+}
+
 TEST(BenchCli, BadArgumentsExit2WithOneLine) {
   const fs::path d = work_dir();
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
@@ -98,6 +107,7 @@ TEST(BenchCli, BadArgumentsExit2WithOneLine) {
       {"--disks 2000 --steps 1 --threads 0", {"--threads", "0"}},
       {"--disks 2000 --steps 1 --order morton", {"--order", "morton", "hilbert"}},
       {"--disks 2000 --steps 1 --threads 2000", {"--threads", "2000", "1024"}},
+      {"--disks 2000 --steps 1 --softening", {"--softening", "--failure"}},
   };
   for (const auto& [args, needles] : cases) {
     const Result r = run_hexdem(d, "bench " + args);
