@@ -36,8 +36,7 @@ void Solver::setup_contacts() {
   wall_fn_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
   wall_fs_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
   wall_fv_.assign(case_.walls.size(), std::vector<double>(model_.num_disks(), 0.0));
-  // Never-bonded disks can only meet when there are several bodies or bonds can break.
-  contacts_on_ = case_.outline.bodies.size() > 1 || model_.any_breakable;
+  contacts_on_ = contacts_wanted();
   if (!contacts_on_) return;
   const Model& m = model_;
   const std::size_t n = m.num_disks();

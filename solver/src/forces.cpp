@@ -113,23 +113,25 @@ inline double hoop_strain(const Model& m, std::size_t i) {
 }
 
 /// The largest of softening_bond's continuum criteria (Rankine, crushing, Mohr-Coulomb) at the
-/// stress of the strain (exx, eyy, exy, ett), relative to the thresholds 1 / inv_ft, 1 / inv_fc,
-/// 1 / inv_mc [-]: an upper bound of each (the in-plane principal values bracketed by one
-/// square root, wider than its rounding; an upper bound is as good a bound as the criterion
-/// itself). NaN gives infinity (the exact test sees it).
-inline double relative_criterion(const SofteningParams& sp, double inv_ft, double inv_fc, double inv_mc, double exx,
-                                 double eyy, double exy, double ett, bool plane_stress) {
+/// stress of the strain (exx, eyy, exy, ett) under the constants lambda2, lambda3, mu of
+/// SofteningParams, relative to the thresholds 1 / inv_ft, 1 / inv_fc, 1 / inv_mc [-]: an
+/// upper bound of each (the in-plane principal values bracketed by one square root, wider than
+/// its rounding; an upper bound is as good a bound as the criterion itself). `out_of_plane` is
+/// 0 in plane stress (no s3), else 1. Not finite where the strain is not (the callers decide).
+/// The one expression of the nonlocal bound and of the local one (classify_local_criterion).
+inline double relative_criterion(double lambda2, double lambda3, double mu, double sin_phi, double inv_ft,
+                                 double inv_fc, double inv_mc, double exx, double eyy, double exy, double ett,
+                                 double out_of_plane) {
   const double tr = exx + eyy;
-  const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
-  const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
-  const double s3 = plane_stress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
+  const double iso = lambda2 * tr + lambda3 * ett;
+  const double sxx = iso + 2 * mu * exx, syy = iso + 2 * mu * eyy, sxy = 2 * mu * exy;
+  const double s3 = out_of_plane * (lambda3 * (tr + ett) + 2 * mu * ett);
   const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
   const double r = std::sqrt(d * d + sxy * sxy) * (1 + 1e-12);
   const double s1 = c + r, s2 = c - r;
   const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
-  const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * sp.mc.sin_phi;
-  const double g = std::max({s1 * inv_ft, -s_min * inv_fc, shear * inv_mc});
-  return g == g ? g : std::numeric_limits<double>::infinity();
+  const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * sin_phi;
+  return std::max(std::max(s1 * inv_ft, -s_min * inv_fc), shear * inv_mc);
 }
 
 /// Pass A: least-squares strain of each disk over its intact bonds,
@@ -149,10 +151,9 @@ void disk_strain(Model& m, std::size_t i) {
 }
 
 /// Model::local_criterion's class of every disk from its strain of this pass: 0 without a full
-/// neighbourhood (softening_bond's "full"), 1 where relative_criterion (at the square root's
-/// bracket) stays below 1 - margin of its body's thresholds and the stress's terms before they
-/// cancel are small enough that their rounding (1e-15 of them) stays far below the margin,
-/// else 2. A pass of its own, branch-free over the strain arrays (inside the strain fit's loop,
+/// neighbourhood (softening_bond's "full"), 1 where relative_criterion stays below 1 - margin
+/// of its body's thresholds and the stress's terms before they cancel are small enough that
+/// their rounding (1e-15 of them) stays far below the margin, else 2 (also where not finite). A pass of its own, branch-free over the strain arrays (inside the strain fit's loop,
 /// once per disk after the fit's dependent chain, it cost as much as the fit itself; g++ does
 /// not vectorise it: the body's constants are a gather).
 template <bool Axisym>
@@ -175,16 +176,8 @@ void classify_local_criterion(Model& m) {
     double e_tt = 0.0;
     if constexpr (Axisym) e_tt = ett[i];
     const double e_xx = exx[i], e_yy = eyy[i], e_xy = exy[i];
-    const double tr = e_xx + e_yy;
-    const double iso = p.lambda2 * tr + p.lambda3 * e_tt;
-    const double sxx = iso + 2 * p.mu * e_xx, syy = iso + 2 * p.mu * e_yy, sxy = 2 * p.mu * e_xy;
-    const double s3 = out_of_plane * (p.lambda3 * (tr + e_tt) + 2 * p.mu * e_tt);
-    const double c = 0.5 * (sxx + syy), d = 0.5 * (sxx - syy);
-    const double r = std::sqrt(d * d + sxy * sxy) * (1 + 1e-12);
-    const double s1 = c + r, s2 = c - r;
-    const double s_max = std::max(s1, s3), s_min = std::min(s2, s3);
-    const double shear = 0.5 * (s_max - s_min) + 0.5 * (s_max + s_min) * p.sin_phi;
-    const double g = std::max(std::max(s1 * p.inv_ft, -s_min * p.inv_fc), shear * p.inv_mc);
+    const double g = relative_criterion(p.lambda2, p.lambda3, p.mu, p.sin_phi, p.inv_ft, p.inv_fc, p.inv_mc, e_xx,
+                                        e_yy, e_xy, e_tt, out_of_plane);
     const double terms = p.moduli * (std::abs(e_xx) + std::abs(e_yy) + 2 * std::abs(e_xy) + std::abs(e_tt));
     const int far = (g < p.far_below) & (terms * p.inv_max < 1e6);  // NaN: not far
     const int full = (ok[i] != 0) & (offset[i + 1] - offset[i] == 6);
@@ -228,9 +221,11 @@ void compute_nonlocal_strains(Model& m) {
       const std::int32_t l = m.body_failure_law[body];
       if (nl.body_inv_ft[body] > 0 && l >= 0) {
         // The criteria of softening_bond at the disk's own strain (convex in the stress).
-        g = relative_criterion(m.softening[static_cast<std::size_t>(l)], nl.body_inv_ft[body], nl.body_inv_fc[body],
+        const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
+        g = relative_criterion(sp.lambda2, sp.lambda3, sp.mu, sp.mc.sin_phi, nl.body_inv_ft[body], nl.body_inv_fc[body],
                                nl.body_inv_mc[body], m.strain.eps_xx[iu], m.strain.eps_yy[iu], m.strain.eps_xy[iu],
-                               axisym ? hoop_strain(m, iu) : 0.0, plane_stress);
+                               axisym ? hoop_strain(m, iu) : 0.0, plane_stress ? 0.0 : 1.0);
+        if (!(g == g)) g = kAlways;  // NaN: let the exact test see it
       } else {
         g = kAlways;  // no bound for this body: always checked
       }

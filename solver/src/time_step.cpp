@@ -328,7 +328,7 @@ double Solver::finite_estimate() {
   // model at a tenth): the peak comes later, and giving the arrays back costs their first
   // touches again (0.1-0.2 s at 1,000,000 disks; docs/benchmarks.md, "Set-up").
   Model& m = model_;
-  const bool contacts_follow = case_.outline.bodies.size() > 1 || m.any_breakable;  // setup_contacts' rule
+  const bool contacts_follow = contacts_wanted();
   std::vector<std::pair<std::vector<double>*, std::size_t>> zeros;
   const auto release = [&](std::size_t band_size) {
     if (contacts_follow && 5 * band_size <= m.num_disks()) return;

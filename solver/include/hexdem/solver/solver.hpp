@@ -297,6 +297,9 @@ private:
   std::size_t broken_bonds_ = 0;
   // Contacts of never-bonded disks (physics.md section 8).
   bool contacts_on_ = false;
+  /// Never-bonded disks can meet (several bodies, or bonds that can break): the contacts'
+  /// broad phase is set up (setup_contacts) and the time step's estimate plans for it.
+  [[nodiscard]] bool contacts_wanted() const { return case_.outline.bodies.size() > 1 || model_.any_breakable; }
   SweepPrune sweep_;
   std::vector<double> px_, py_;                 ///< current centres [m]
   std::vector<Contact> contacts_, contacts_next_;
