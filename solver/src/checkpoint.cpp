@@ -840,11 +840,7 @@ std::uint64_t hash_words(const void* data, std::size_t size, std::uint64_t h) {
     h = (h ^ w) * 0x9e3779b97f4a7c15ull;
     h ^= h >> 32;
   }
-  for (; k < size; ++k) {
-    h ^= p[k];
-    h *= 1099511628211ull;
-  }
-  return h;
+  return fnv1a(p + k, size - k, h);  // the last size mod 8 bytes
 }
 
 std::uint64_t case_hash(const Case& c) {
