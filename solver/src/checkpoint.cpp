@@ -129,9 +129,7 @@ void visit_model(M& m, V& v) {
   // softening failure
   v.state("any_softening", m.any_softening);
   v.rebuilt("softening", m.softening);
-  v.state("damage", m.cracks.damage); v.state("kappa", m.cracks.kappa);
-  v.state("delta0", m.cracks.delta0); v.state("delta_f", m.cracks.delta_f);
-  v.state("cracking", m.cracks.cracking);
+  v.rebuilt("crack_starts", m.cracks.starts);  // work space of a force pass and settle_broken_bonds: empty between steps
   v.state("hoop_damage", m.hoop_cracks.damage); v.state("hoop_kappa", m.hoop_cracks.kappa);
   v.state("hoop_e0", m.hoop_cracks.e0); v.state("hoop_ef", m.hoop_cracks.ef);
   v.state("hoop_e_last", m.hoop_cracks.e_last);
@@ -664,12 +662,27 @@ void CheckpointAccess::check_restored(const Solver& s, const Built& b, const Run
   c.range("model.mirror_plane", m.mirror.plane, 0, 1, "a flag");
   c.range("model.strain_ok", m.strain.ok, 0, 1, "a flag");
   c.range("model.hoop_cut", m.hoop.cut, 0, 1, "a flag");
-  c.range("model.cracking", m.cracks.cracking, 0, 2, "none, tension or shear crack");
+  for (std::size_t r = 0; r < m.failed_rows.size(); ++r) {
+    const Model::FailedBond& f = m.failed_rows[r];
+    const std::string row = "record 'model.failed_rows' row " + std::to_string(r);
+    for (const auto& [name, value] : {std::pair{"fracture_energy", f.fracture_energy}, {"break_kinetic", f.break_kinetic},
+                                      {"break_time", f.break_time}, {"f_damp", f.f_damp}, {"damping_work", f.damping_work},
+                                      {"friction_work", f.friction_work}, {"slip", f.slip}, {"damage", f.damage},
+                                      {"kappa", f.kappa}, {"delta0", f.delta0}, {"delta_f", f.delta_f}})
+      if (!std::isfinite(value)) c.fail(row + " " + name + " is " + number(value) + ", not finite");
+    if (f.crack < Model::kNoCrack || f.crack > Model::kShearCrack)
+      c.fail(row + " crack is " + std::to_string(f.crack) + ", not 0, 1 or 2 (none, tension or shear crack)");
+  }
   c.range("model.failed_row", m.failed_row, -1, static_cast<std::int64_t>(m.failed_rows.size()) - 1,
           "a row of model.failed_rows or -1");
   if (m.failed_rows.size() > m.num_bonds())
     c.fail("record 'model.failed_rows' has " + std::to_string(m.failed_rows.size()) + " rows, the model has " +
            std::to_string(m.num_bonds()) + " bonds");
+  // An intact bond has a row exactly when it cracks (softening), and then its crack's kind.
+  for (std::size_t b = 0; b < m.failed_row.size(); ++b)
+    if (m.bond_intact(b) && m.failed_row[b] >= 0 && (!m.any_softening || m.bond_crack(b) == Model::kNoCrack))
+      c.fail("record 'model.failed_row' element " + std::to_string(b) + " gives intact bond " + std::to_string(b) +
+             " a row that holds no crack");
   if (s.broken_bonds_ > m.num_bonds())
     c.fail("record 'broken_bonds' is " + std::to_string(s.broken_bonds_) + ", the model has " +
            std::to_string(m.num_bonds()) + " bonds");

@@ -13,6 +13,8 @@
 
 #include "hexdem/solver/model.hpp"
 
+#include "hexdem/error.hpp"
+
 #include "hexdem/laws/bilinear_kinematic.hpp"
 #include "hexdem/laws/contact.hpp"
 #include "hexdem/laws/softening.hpp"
@@ -32,13 +34,13 @@ struct AdjacencyView {
   const std::int32_t* __restrict bond_i;
   const std::int32_t* __restrict bond_j;
   const std::uint8_t* __restrict state;
-  const std::uint8_t* __restrict cracking;  ///< null without softening
+  const std::int32_t* __restrict row;       ///< Model::failed_row; null without softening
   const std::uint8_t* __restrict ok;        ///< LocalStrain::ok
   const double* __restrict x0;
   const double* __restrict y0;
   explicit AdjacencyView(const Model& m)
       : entry(m.adj_entry.data()), bond_i(m.bi.data()), bond_j(m.bj.data()), state(m.state.data()),
-        cracking(m.any_softening ? m.cracks.cracking.data() : nullptr), ok(m.strain.ok.data()), x0(m.x0.data()),
+        row(m.any_softening ? m.failed_row.data() : nullptr), ok(m.strain.ok.data()), x0(m.x0.data()),
         y0(m.y0.data()) {}
   /// Model::adj_bond: the bond of adjacency entry k.
   [[nodiscard]] std::size_t bond(std::int64_t k) const {
@@ -50,7 +52,7 @@ struct AdjacencyView {
     return static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ i;
   }
   /// Model::bond_in_fit.
-  [[nodiscard]] bool in_fit(std::size_t b) const { return state[b] <= 1 && (cracking == nullptr || !cracking[b]); }
+  [[nodiscard]] bool in_fit(std::size_t b) const { return state[b] <= 1 && (row == nullptr || row[b] < 0); }
 };
 
 /// The local-strain model's shear measure of a bond, u_s = (d/2) s0.(eps_i + eps_j).n0 =
@@ -487,7 +489,7 @@ double j2_hardening_energy(const Model& m, std::size_t i) {
 
 /// 1 - D of a cracking bond's shear spring, 1 otherwise.
 inline double shear_factor(const Model& m, std::size_t b) {
-  return !m.cracks.damage.empty() && m.cracks.cracking[b] ? 1 - m.cracks.damage[b] : 1.0;
+  return m.bond_crack(b) != Model::kNoCrack ? 1 - m.failed_or_none(b).damage : 1.0;
 }
 
 /// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2.
@@ -519,13 +521,10 @@ inline double closed_crack_stiffness(const Model& m, std::size_t b, double D) {
   const double k = m.kn(b), excess = D * k - contact_cap(m, b);
   return excess > 0 ? k - excess : k;  // k - (D k - cap) = (1 - D) k + cap
 }
-inline double closed_crack_stiffness(const Model& m, std::size_t b) {
-  return closed_crack_stiffness(m, b, m.cracks.damage[b]);
-}
 
-/// cracks.cracking of a tension crack and of a shear crack (shear_softening).
-constexpr std::uint8_t kTensionCrack = 1;
-constexpr std::uint8_t kShearCrack = 2;
+/// FailedBond::crack of a tension crack and of a shear crack (shear_softening).
+constexpr std::int64_t kTensionCrack = Model::kTensionCrack;
+constexpr std::int64_t kShearCrack = Model::kShearCrack;
 
 /// Current length and unit vector of the bond from disk i to disk j: its reference vector
 /// a (Model::ref_ax, ref_ay) plus the relative displacement (no cancellation of the positions).
@@ -545,15 +544,16 @@ inline BondGeometry bond_geometry(double ax, double ay, const double* __restrict
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
 double intact_bond_energy(const Model& m, std::size_t b) {
-  if (!m.cracks.damage.empty() && m.cracks.cracking[b]) {
+  if (m.any_softening && m.bond_crack(b) != Model::kNoCrack) {
     // A cracking bond: (1 - D) on both springs, the normal one while open; closed, the
     // normal spring of closed_crack_stiffness.
-    const double D = m.cracks.damage[b], g = 1 - D, delta = m.len_prev[b] - m.rest(b);
+    const Model::FailedBond& f = m.failed_or_none(b);
+    const double D = f.damage, g = 1 - D, delta = m.len_prev[b] - m.rest(b);
     const double us = m.u_s[b];
     // A shear crack: the damaged part of its shear spring is the friction of its faces,
     // D k_s (u_s - slip) (docs/model.md, "Shear cracks that soften").
-    const double fr = m.cracks.cracking[b] == kShearCrack ? us - m.failed_or_none(b).slip : 0.0;
-    return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b) * delta * delta) +
+    const double fr = f.crack == kShearCrack ? us - f.slip : 0.0;
+    return 0.5 * (delta > 0 ? m.kn(b) * delta * delta * g : closed_crack_stiffness(m, b, D) * delta * delta) +
            g * 0.5 * m.ks(b) * us * us + D * 0.5 * m.ks(b) * fr * fr;
   }
   const double f_n = bond_force(m, b).f_n;  // stored, or from the positions in an elastic lattice
@@ -606,7 +606,7 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
 
 /// newly_broken code of a bond that starts to crack (it stays intact, leaves its disks' fits).
 constexpr std::uint8_t kStartsCracking = 8;
-/// newly_broken: the bond starts a shear crack (shear_softening; cracks.cracking = kShearCrack).
+/// newly_broken: the bond starts a shear crack (shear_softening; FailedBond::crack = kShearCrack).
 constexpr std::uint8_t kStartsShearCracking = 9;
 
 /// Eq. 19: the strengths of a bond of failure law l with section `sec` [m^2] (times the
@@ -616,12 +616,22 @@ inline laws::BondStrength bond_strength(const Model& m, std::size_t l, const law
   return {law.f_t * rf.tension * sec, law.f_c * rf.compression * sec, law.c * rf.cohesion * sec, m.failure_tan_phi[l]};
 }
 
+/// Keeps a crack that the force pass starts at bond b, driver d0, failure at delta_f, for
+/// settle_broken_bonds (BondCracks::starts): the pass's threads add them one at a time.
+inline void add_crack_start(Model& m, std::size_t b, double d0, double delta_f) {
+#pragma omp critical(hexdem_crack_starts)
+  m.cracks.starts.push_back({static_cast<std::int64_t>(b), d0, delta_f});  // amortised: no allocation once grown
+}
+
 /// Bond b starts to crack at elongation delta, to fail at delta_f; a bond whose share of the
 /// opening is not above its elastic stretch cannot soften: it breaks in tension at once.
 inline void start_cracking(Model& m, std::size_t b, double delta, double delta_f) {
-  m.cracks.delta0[b] = m.cracks.kappa[b] = delta;
-  m.cracks.delta_f[b] = delta_f;
-  m.newly_broken[b] = delta_f > delta ? kStartsCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+  if (delta_f > delta) {
+    add_crack_start(m, b, delta, delta_f);
+    m.newly_broken[b] = kStartsCracking;
+  } else {
+    m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+  }
 }
 
 /// The driver of a shear crack [m]: the springs' energy as an elongation of the normal spring,
@@ -638,9 +648,12 @@ inline double shear_crack_driver(double kn, double ks, double delta, double us) 
 /// delta_f would not exceed d0 breaks in shear at once.
 inline void start_shear_cracking(Model& m, std::size_t b, double G_F, double d0) {
   const double delta_f = d0 > 0 ? 2.0 * G_F * m.bond_section(b) / (m.kn(b) * d0) : 0.0;
-  m.cracks.delta0[b] = m.cracks.kappa[b] = d0;
-  m.cracks.delta_f[b] = delta_f;
-  m.newly_broken[b] = delta_f > d0 ? kStartsShearCracking : 1 + static_cast<std::uint8_t>(laws::FailureMode::Shear);
+  if (delta_f > d0) {
+    add_crack_start(m, b, d0, delta_f);
+    m.newly_broken[b] = kStartsShearCracking;
+  } else {
+    m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Shear);
+  }
 }
 
 /// No tensile strength to check (a closing bond does not start to crack).
@@ -664,7 +677,10 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const SofteningParams& sp = m.softening[l];
   const double delta = len - m.rest(b);
   const double us = m.u_s[b];
-  if (m.cracks.cracking[b] == kShearCrack) {
+  // An intact bond has its row exactly when it cracks (settle_broken_bonds adds it).
+  const std::int32_t row = m.failed_row[b];
+  Model::FailedBond* const crack = row >= 0 ? &m.failed_rows[static_cast<std::size_t>(row)] : nullptr;
+  if (crack != nullptr && crack->crack == kShearCrack) {
     // A shear crack (docs/model.md, "Shear cracks that soften"): the springs soften with D,
     // and the damaged part of the shear spring is the friction of the closed faces,
     // D k_s (u_s - slip), at most mu |f_n| (nothing while the crack is open). f_s =
@@ -673,8 +689,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     // drop that leap-frog's kinetic energy holds: the slip's as friction, the damage step's
     // as fracture energy (a negative part as break_kinetic), as for a tension crack.
     const double kn = m.kn(b), ks = m.ks(b);
-    Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
-    const double d_old = m.cracks.damage[b];
+    Model::FailedBond& f = *crack;
+    const double d_old = f.damage;
     // The normal spring at damage D: open, (1 - D) k_n; closed, closed_crack_stiffness.
     const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : closed_crack_stiffness(m, b, dmg); };
     if (d_old > 0) {
@@ -689,8 +705,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       }
     }
     const double drv = shear_crack_driver(kn, ks, delta, us);
-    if (drv > m.cracks.kappa[b]) {
-      const double d = laws::LinearSoftening::damage(drv, m.cracks.delta0[b], m.cracks.delta_f[b]);
+    if (drv > f.kappa) {
+      const double d = laws::LinearSoftening::damage(drv, f.delta0, f.delta_f);
       if (d > d_old) {
         const double fr = us - f.slip;
         const auto energy = [&](double dmg) {
@@ -700,14 +716,15 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
         const double released = (energy(d_old) - energy(d)) - half;
         f.fracture_energy += std::max(released, 0.0);
         f.break_kinetic += std::min(released, 0.0);
-        m.cracks.damage[b] = d;
+        f.damage = d;
       }
-      m.cracks.kappa[b] = drv;
+      f.kappa = drv;
     }
-  } else if (m.cracks.cracking[b] && delta > m.cracks.kappa[b]) {
-    const double d = laws::LinearSoftening::damage(delta, m.cracks.delta0[b], m.cracks.delta_f[b]);
+  } else if (crack != nullptr && delta > crack->kappa) {
+    Model::FailedBond& f = *crack;
+    const double d = laws::LinearSoftening::damage(delta, f.delta0, f.delta_f);
     const double e = 0.5 * (m.kn(b) * delta * delta + m.ks(b) * us * us);
-    if (d > m.cracks.damage[b] && e > 0) {
+    if (d > f.damage && e > 0) {
       // What the damage step releases at t_n, as for a break (docs/model.md, "Energy at a
       // break"): the drop of the springs' energy, dD e, less the half step of the force drop
       // that leap-frog's kinetic energy holds, (dt/2) v.dF = dD (k_n delta du_n + k_s u_s du_s) / 2
@@ -716,27 +733,27 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
       // accurate. It is >= 0 unless a measure changed sign within the step; then the spring's
       // energy passed through 0 and the negative part is the integrator's (break_kinetic).
       const double half = 0.5 * (m.kn(b) * delta * du_n + m.ks(b) * us * du_s);
-      const double released = (d - m.cracks.damage[b]) * (e - half);
-      Model::FailedBond& f = m.failed(b);  // a cracking bond has its row
+      const double released = (d - f.damage) * (e - half);
       f.fracture_energy += std::max(released, 0.0);
       f.break_kinetic += std::min(released, 0.0);
-      m.cracks.damage[b] = d;
-      m.cracks.kappa[b] = delta;
+      f.damage = d;
+      f.kappa = delta;
     }
   }
-  const double g = 1 - m.cracks.damage[b];
-  // A closed crack carries compression with the normal spring of closed_crack_stiffness.
-  m.f_n[b] = delta > 0 ? m.kn(b) * delta * g : (m.cracks.cracking[b] ? closed_crack_stiffness(m, b) : m.kn(b)) * delta;
-  m.f_s[b] = m.cracks.cracking[b] == kShearCrack ? m.ks(b) * (us - m.cracks.damage[b] * m.failed(b).slip)
-                                                : g * m.ks(b) * us;
   m.len_prev[b] = len;
-  if (m.cracks.cracking[b]) {
-    if (m.cracks.damage[b] >= 1.0) {
-      const auto mode = m.cracks.cracking[b] == kShearCrack ? laws::FailureMode::Shear : laws::FailureMode::Tension;
+  if (crack != nullptr) {
+    const double D = crack->damage, g = 1 - D;
+    // A closed crack carries compression with the normal spring of closed_crack_stiffness.
+    m.f_n[b] = delta > 0 ? m.kn(b) * delta * g : closed_crack_stiffness(m, b, D) * delta;
+    m.f_s[b] = crack->crack == kShearCrack ? m.ks(b) * (us - D * crack->slip) : g * m.ks(b) * us;
+    if (D >= 1.0) {
+      const auto mode = crack->crack == kShearCrack ? laws::FailureMode::Shear : laws::FailureMode::Tension;
       m.newly_broken[b] = 1 + static_cast<std::uint8_t>(mode);
     }
     return;
   }
+  m.f_n[b] = m.kn(b) * delta;  // intact: D = 0
+  m.f_s[b] = m.ks(b) * us;
   // No criterion can fire where both disks' stresses are far from them (LocalCriterion).
   if (!m.local_criterion.disk.empty() && m.local_criterion.far(i, j)) return;
   // Eq. 20: the rate factors at the bond's strain rate; the random field's factor. The
@@ -851,7 +868,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
   // Softening: bonds that no criterion can break take softening_bond's forces here.
   const bool far = Softening && !m.local_criterion.disk.empty();
-  const std::uint8_t* __restrict cracking = Softening ? m.cracks.cracking.data() : nullptr;
+  const std::int32_t* __restrict row = Softening ? m.failed_row.data() : nullptr;  // cracking: a row
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t b = 0; b < nb; ++b) {
     const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
@@ -882,7 +899,7 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
       if (law_b >= 0 && m.softening[static_cast<std::size_t>(law_b)].G_F > 0) {
         // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
         if constexpr (Rotation) m.u_s[b] += du_s;
-        if (far && !cracking[b] && m.local_criterion.far(i, j)) {
+        if (far && row[b] < 0 && m.local_criterion.far(i, j)) {
           // softening_bond's forces of an intact bond (D = 0) that no criterion can break.
           m.f_n[b] = kn_of[kb] * (len - m.rest(static_cast<std::size_t>(b)));
           m.f_s[b] = ks_of[kb] * m.u_s[b];
@@ -1239,6 +1256,7 @@ void compute_probe_forces(Model& m) {
   // The probe is the linear operator: no bond breaks in it (it is far below any strength,
   // and a break would not be linear).
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
+  m.cracks.starts.clear();
 }
 
 BondForce bond_force(const Model& m, std::size_t b) {
@@ -1348,6 +1366,9 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     if (broken++ == 0) first = b;
   }
   if (broken == 0) return 0;
+  // The cracks the pass started, in bond order (its threads added them in any order).
+  std::sort(m.cracks.starts.begin(), m.cracks.starts.end(),
+            [](const CrackStart& a, const CrackStart& c) { return a.bond < c.bond; });
   // Forces with the bonds still intact, as the pass computed them.
   std::copy(m.fx.begin(), m.fx.end(), m.fx_intact.begin());
   std::copy(m.fy.begin(), m.fy.end(), m.fy_intact.begin());
@@ -1400,14 +1421,21 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     const double own = intact_bond_energy(m, b);
     const bool starts_cracking = m.newly_broken[b] == kStartsCracking || m.newly_broken[b] == kStartsShearCracking;
     if (starts_cracking) {
-      // It keeps its springs (they soften from now on) and leaves its disks' strain fits.
-      m.cracks.cracking[b] = m.newly_broken[b] == kStartsShearCracking ? kShearCrack : kTensionCrack;
-      add_failed_row(m, b);
+      // It keeps its springs (they soften from now on) and leaves its disks' strain fits: its
+      // row holds the crack that the pass started (BondCracks::starts, sorted by bond).
+      const auto start = std::lower_bound(m.cracks.starts.begin(), m.cracks.starts.end(), static_cast<std::int64_t>(b),
+                                          [](const CrackStart& c, std::int64_t bond) { return c.bond < bond; });
+      HEXDEM_VERIFY(start != m.cracks.starts.end() && start->bond == static_cast<std::int64_t>(b),
+                    "settle_broken_bonds: a crack start the force pass kept");
+      Model::FailedBond& f = add_failed_row(m, b);
+      f.crack = m.newly_broken[b] == kStartsShearCracking ? kShearCrack : kTensionCrack;
+      f.delta0 = f.kappa = start->delta0;
+      f.delta_f = start->delta_f;
     } else {
       // BondState = 1 + FailureMode; the contact's row starts at zero.
       mark_broken(m, b, static_cast<BondState>(m.newly_broken[b]));
       m.failed(b).break_time = m.time;
-      if (!m.cracks.damage.empty()) m.cracks.damage[b] = 1.0;
+      m.failed(b).damage = 1.0;
       // The bond becomes a contact that starts now: no shear history, the normal force of
       // its overlap (a bond that breaks in compression keeps pushing).
       m.f_n[b] = m.f_s[b] = 0.0;
@@ -1521,6 +1549,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     m.failed(b).break_kinetic += weights > 0 ? released * (w / weights) : released / static_cast<double>(broken);
   }
   m.event_weights.clear();  // keep their capacity: no allocation once grown
+  m.cracks.starts.clear();
   m.event_half.clear();
   m.event_d_len.clear();
   return breaks;

@@ -229,8 +229,6 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       for (auto* v : {&m.g_xx, &m.g_yy, &m.g_xy}) v->assign(nb, 0.0);
   }
   if (m.any_softening) {
-    for (auto* v : {&m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0, &m.cracks.delta_f}) v->assign(nb, 0.0);
-    m.cracks.cracking.assign(nb, 0);
     if (axisym)
       for (auto* v : {&m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.fracture, &m.hoop_cracks.e_last, &m.hoop_cracks.break_kinetic}) v->assign(n, 0.0);
   }
@@ -400,19 +398,18 @@ Model build_model(meshing::Lattice&& lattice, Geometry geometry, double thicknes
 
 void reset_force_history(Model& m) {
   for (auto* v : {&m.f_n, &m.f_s, &m.u_s, &m.bond_plastic.alpha_n, &m.bond_plastic.alpha_s}) std::fill(v->begin(), v->end(), 0.0);
+  // A bond that cracked or broke has a row: its disks' fits change back.
+  const bool broke = !m.failed_rows.empty() || std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; });
   m.failed_rows.clear();
   std::fill(m.failed_row.begin(), m.failed_row.end(), -1);
+  m.cracks.starts.clear();
   for (std::size_t b = 0; b < m.len_prev.size(); ++b) m.len_prev[b] = m.rest(b);
-  const bool broke = std::any_of(m.state.begin(), m.state.end(), [](std::uint8_t s) { return s > 1; }) ||
-                     std::any_of(m.cracks.cracking.begin(), m.cracks.cracking.end(), [](std::uint8_t c) { return c != 0; });
   std::fill(m.state.begin(), m.state.end(), static_cast<std::uint8_t>(BondState::Intact));
   std::fill(m.newly_broken.begin(), m.newly_broken.end(), 0);
   std::fill(m.hoop.cut.begin(), m.hoop.cut.end(), 0);
-  for (auto* v : {&m.hoop.constant, &m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy, &m.cracks.damage, &m.cracks.kappa, &m.cracks.delta0,
-                  &m.cracks.delta_f, &m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.e_last}) {
+  for (auto* v : {&m.hoop.constant, &m.strain.eps_off_xx, &m.strain.eps_off_yy, &m.strain.eps_off_xy, &m.hoop_cracks.damage, &m.hoop_cracks.kappa, &m.hoop_cracks.e0, &m.hoop_cracks.ef, &m.hoop_cracks.e_last}) {
     std::fill(v->begin(), v->end(), 0.0);
   }
-  std::fill(m.cracks.cracking.begin(), m.cracks.cracking.end(), 0);
   for (auto* v : {&m.j2.eps_p_xx, &m.j2.eps_p_yy, &m.j2.eps_p_xy, &m.j2.eps_p_33, &m.j2.beta_xx, &m.j2.beta_yy, &m.j2.beta_xy,
                   &m.j2.beta_33, &m.j2.eps_p_eq, &m.j2.sig_xx, &m.j2.sig_yy, &m.j2.sig_xy, &m.j2.sig_33}) {
     std::fill(v->begin(), v->end(), 0.0);

@@ -270,7 +270,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
     double broken = 0;
     for (auto k = m.adj_offset[i]; k < m.adj_offset[i + 1]; ++k) {
       const auto b = m.adj_bond(k);
-      broken += !m.bond_intact(b) ? 1.0 : m.cracks.damage.empty() ? 0.0 : m.cracks.damage[b];
+      broken += !m.bond_intact(b) ? 1.0 : m.bond_damage(b);
     }
     return broken / m.initial_bonds(i);
   }));
@@ -323,7 +323,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
   g.cell_data.push_back(cells("break_time", io::ScalarType::Float64, [&m](std::size_t b) { return m.bond_break_time(b); },
                               [](std::size_t) { return -1.0; }));
   if (m.any_softening)
-    g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.cracks.damage[b]; },
+    g.cell_data.push_back(cells("bond_damage", io::ScalarType::Float64, [&m](std::size_t b) { return m.bond_damage(b); },
                                 [](std::size_t) { return 1.0; }));
   g.cell_data.push_back(cells("bond_class", io::ScalarType::UInt8, [&m](std::size_t b) { return double(m.bond_class_of(b)); },
                               [](std::size_t) { return 0.0; }));

@@ -92,7 +92,10 @@ TEST(BenchCli, SofteningWithContacts) {
   const Result r = run_hexdem(work_dir(), "bench --disks 2000 --steps 20 --threads 1 --failure --softening --contacts");
   EXPECT_NE(r.out.find("failure on, softening"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("broken bonds 0,"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("model.damage"), std::string::npos) << "the census shows the crack state: " << r.out;
+  // The crack state lives in the failed bonds' rows (none here), not in arrays per bond.
+  EXPECT_NE(r.out.find("model.failed_row "), std::string::npos) << r.out;
+  for (const char* per_bond : {"model.damage", "model.kappa", "model.delta0", "model.delta_f", "model.cracking"})
+    EXPECT_EQ(r.out.find(per_bond), std::string::npos) << per_bond << " is stored per bond: " << r.out;
 }
 
 TEST(BenchCli, BadArgumentsExit2WithOneLine) {

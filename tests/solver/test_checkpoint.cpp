@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "hexdem/error.hpp"
@@ -427,6 +429,62 @@ TEST(Checkpoint, ForgedContentWithAValidChecksumIsRefused) {
       const std::string text = e.what();
       EXPECT_EQ(text.rfind(bad + ": damaged checkpoint: ", 0), 0u) << text;
       EXPECT_NE(text.find(f.message), std::string::npos) << text;
+      EXPECT_EQ(text.find('\n'), std::string::npos) << text;
+    }
+  }
+}
+
+TEST(Checkpoint, ForgedCrackStateIsRefused) {
+  // The block with a fracture energy: its bonds soften, and a cracking bond's crack state
+  // (damage, drivers, kind) is in its failed bond's row. A row that does not hold a crack
+  // of a known kind, holds a non-finite value, or an intact bond's row without a crack
+  // (an intact bond has a row exactly while it cracks) is a damaged checkpoint.
+  const Case c = parse_case(kImpact, "impact.toml", ".", {"material.1.fracture_energy=100"});
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  const auto cracking_bond = [](const Model& m) -> std::int64_t {
+    for (std::size_t b = 0; b < m.num_bonds(); ++b)
+      if (m.bond_intact(b) && m.bond_crack(b) != Model::kNoCrack) return static_cast<std::int64_t>(b);
+    return -1;
+  };
+  for (int k = 0; k < 4000 && cracking_bond(a.model()) < 0; ++k) ASSERT_TRUE(a.advance(false));
+  const std::int64_t b = cracking_bond(a.model());
+  ASSERT_GE(b, 0) << "no bond started to crack";
+  const Model& m = a.model();
+  const auto row = static_cast<std::size_t>(m.failed_row[static_cast<std::size_t>(b)]);
+  EXPECT_GT(m.failed_rows[row].delta_f, m.failed_rows[row].delta0) << "the row holds the crack's drivers";
+  const std::string good = temp_path("crack_good.chk"), bad = temp_path("crack_forged.chk");
+  write_checkpoint(good, a, RunState{});
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::string at = "record 'model.failed_rows' row " + std::to_string(row);
+  const std::vector<std::tuple<const char*, std::function<void(std::vector<RawRecord>&)>, std::string>> forgeries = {
+      {"unknown crack kind", set_element<std::int64_t>("model.failed_rows", row, 7, offsetof(Model::FailedBond, crack)),
+       at + " crack is 7, not 0, 1 or 2"},
+      {"NaN damage", set_element<double>("model.failed_rows", row, nan, offsetof(Model::FailedBond, damage)),
+       at + " damage is nan, not finite"},
+      {"infinite failure driver", set_element<double>("model.failed_rows", row, std::numeric_limits<double>::infinity(),
+                                                      offsetof(Model::FailedBond, delta_f)),
+       at + " delta_f is inf, not finite"},
+      {"cracking bond without a crack", set_element<std::int64_t>("model.failed_rows", row, 0, offsetof(Model::FailedBond, crack)),
+       "gives intact bond " + std::to_string(b) + " a row that holds no crack"},
+  };
+  {
+    forge(good, bad, [](std::vector<RawRecord>&) {});
+    Solver back(c, lattice);
+    RunState run;
+    EXPECT_NO_THROW(read_checkpoint(bad, back, run));
+  }
+  for (const auto& [what, edit, message] : forgeries) {
+    SCOPED_TRACE(what);
+    forge(good, bad, edit);
+    Solver back(c, lattice);
+    RunState run;
+    try {
+      read_checkpoint(bad, back, run);
+      ADD_FAILURE() << "a forged checkpoint (" << what << ") was read";
+    } catch (const InputError& e) {
+      const std::string text = e.what();
+      EXPECT_NE(text.find(message), std::string::npos) << text;
       EXPECT_EQ(text.find('\n'), std::string::npos) << text;
     }
   }

@@ -172,7 +172,7 @@ BarResult run_bar(const std::string& text) {
   r.break_kinetic = s.energy().break_kinetic;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
     r.min_bond_fracture = std::min(r.min_bond_fracture, m.bond_fracture_energy(b));
-    r.cracked += (!m.bond_intact(b) || m.cracks.cracking[b]) ? 1 : 0;
+    r.cracked += (!m.bond_intact(b) || m.bond_crack(b) != Model::kNoCrack) ? 1 : 0;
   }
   return r;
 }
@@ -253,12 +253,12 @@ ClosingCrack closing_crack(double angle, double damage) {
   const double mid = 0.01, v = 0.5;
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
     if ((m.y0[m.bi[b]] - mid) * (m.y0[m.bj[b]] - mid) >= 0) continue;
-    m.cracks.cracking[b] = 1;
-    m.cracks.damage[b] = damage;
-    m.cracks.delta0[b] = 1e-7;
-    m.cracks.delta_f[b] = 1e-3;
-    m.cracks.kappa[b] = 0.999e-3;
-    add_failed_row(m, b);
+    Model::FailedBond& f = add_failed_row(m, b);
+    f.crack = Model::kTensionCrack;
+    f.damage = damage;
+    f.delta0 = 1e-7;
+    f.delta_f = 1e-3;
+    f.kappa = 0.999e-3;
   }
   update_strain_matrices(m);  // at rest: no strain to carry over
   for (std::size_t i = 0; i < m.num_disks(); ++i) m.vy[i] = m.y0[i] > mid ? -v : v;
@@ -270,10 +270,10 @@ ClosingCrack closing_crack(double angle, double damage) {
     // differences misses the spring's energy by J a b / 2, at most J (b - a)^2 / 8.
     for (std::size_t b = 0; b < m.num_bonds(); ++b) {
       const double delta = m.len_prev[b] - m.rest(b);
-      if (n > 0 && m.cracks.cracking[b] && (delta > 0) != (last[b] > 0)) {
+      if (n > 0 && m.bond_crack(b) != Model::kNoCrack && (delta > 0) != (last[b] > 0)) {
         const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
         const double cap = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]) * m.contact_omega2;
-        r.bound += std::min(m.cracks.damage[b] * m.kn(b), cap) * (delta - last[b]) * (delta - last[b]) / 8;
+        r.bound += std::min(m.bond_damage(b) * m.kn(b), cap) * (delta - last[b]) * (delta - last[b]) / 8;
         ++r.crossings;
       }
       last[b] = delta;

@@ -119,11 +119,11 @@ Outcome run(const Member& m) {
   o.broken = solver.broken_bonds();
   const Model& model = solver.model();
   for (std::size_t b = 0; b < model.num_bonds(); ++b)
-    if (!model.bond_intact(b) || (!model.cracks.cracking.empty() && model.cracks.cracking[b]))
+    if (!model.bond_intact(b) || model.bond_crack(b) != Model::kNoCrack)
       o.min_fracture = std::min(o.min_fracture, model.bond_fracture_energy(b));
   for (double h : model.hoop_cracks.fracture) o.min_fracture = std::min(o.min_fracture, h);
-  for (std::size_t b = 0; b < model.cracks.cracking.size(); ++b) {
-    if (model.cracks.cracking[b] != 2) continue;
+  for (std::size_t b = 0; b < model.num_bonds(); ++b) {
+    if (model.bond_crack(b) != Model::kShearCrack) continue;
     ++o.shear_cracks;
     if (!model.bond_intact(b)) o.shear_ratio.push_back(model.bond_fracture_energy(b) / (100.0 * model.bond_section(b)));
   }

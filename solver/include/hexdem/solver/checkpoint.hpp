@@ -37,7 +37,11 @@ namespace hexdem::solver {
 /// 7: the Drucker-Prager disks (model.j2_alpha).
 /// 8: no stored neighbour per adjacency entry, no shear displacement in an elastic lattice.
 /// 9: the slip of a softening shear crack's faces in the failed bonds' rows (FailedBond::slip).
-inline constexpr std::uint32_t kCheckpointVersion = 11;
+/// 10: an elastic lattice keeps each bond's pair force, not f_n, nx and ny. 11: the lattice
+/// hash and the checksum take 8 bytes at a time.
+/// 12: a softening bond's crack state (damage, kappa, delta0, delta_f and its kind) in its
+/// failed bond's row, not per bond.
+inline constexpr std::uint32_t kCheckpointVersion = 12;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

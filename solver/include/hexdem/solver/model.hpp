@@ -181,18 +181,22 @@ struct LocalCriterion {
   [[nodiscard]] bool far(std::size_t i, std::size_t j) const { return (disk[i] | disk[j]) == 1; }
 };
 
-/// The crack state of softening bonds (docs/model.md, "Fracture energy and softening"), per
-/// bond; allocated only when some material has a fracture energy.
+/// A bond that the force pass found starting to crack (docs/model.md, "Fracture energy and
+/// softening"), until settle_broken_bonds gives it its row of Model::failed_rows with this
+/// crack state: the bond, and the driver at the start of cracking and at failure [m].
+struct CrackStart {
+  std::int64_t bond = 0;
+  double delta0 = 0, delta_f = 0;
+};
+
+/// The crack state of softening bonds lives in their rows of Model::failed_rows (a bond has
+/// one from the pass its crack starts in): per bond it would be 32 bytes on every bond, about
+/// 96 bytes per disk, for the few that crack. Here only the force pass's new cracks.
 struct BondCracks {
-  std::vector<double> damage;           ///< D of the bond's springs [-], 0 intact, 1 broken
-  /// Largest driver since cracking started [m]: the elongation of a tension crack, the
-  /// energy-equivalent elongation sqrt(<delta>^2 + (k_s / k_n) u_s^2) of a shear crack.
-  std::vector<double> kappa;
-  std::vector<double> delta0, delta_f;  ///< driver at the start of cracking and at failure [m]
-  /// 1 once the bond has started a tension crack, 2 a shear crack (shear_softening): it keeps
-  /// its (softening) springs but leaves its disks' strain fits, so that its opening is not
-  /// read as strain by its neighbours.
-  std::vector<std::uint8_t> cracking;
+  /// The cracks that the force pass started, in no particular order (the pass's threads add
+  /// them); settle_broken_bonds sorts them by bond, reads them and clears them, keeping the
+  /// capacity (no allocation once grown).
+  std::vector<CrackStart> starts;
 };
 
 /// Hoop cracking of the rings of axisymmetric softening models: damage of the hoop stress
@@ -326,11 +330,25 @@ struct Model {
   /// (state II): the dashpot's part of f_n at the last update [N] and the cumulative dashpot
   /// and friction work [J]; while a shear crack softens, the slip of its closed faces [m]
   /// (docs/model.md, "Shear cracks that soften").
+  ///
+  /// The crack state of a softening bond (docs/model.md, "Fracture energy and softening"):
+  /// its damage D of the springs [-] (0 intact, 1 broken: every broken bond has 1); its
+  /// largest driver since cracking started [m] (the elongation of a tension crack, the
+  /// energy-equivalent elongation sqrt(<delta>^2 + (k_s / k_n) u_s^2) of a shear crack); the
+  /// driver at the start of cracking and at failure [m]; and its kind, crack: kNoCrack, or
+  /// kTensionCrack, kShearCrack once it has started one (shear_softening). A cracking bond
+  /// keeps its (softening) springs but leaves its disks' strain fits, so that its opening is
+  /// not read as strain by its neighbours: an intact bond has a row exactly when it cracks.
+  /// All members 8 bytes: no padding in the checkpoint's bytes.
   struct FailedBond {
     double fracture_energy = 0, break_kinetic = 0, break_time = -1;
     double f_damp = 0, damping_work = 0, friction_work = 0;
     double slip = 0;
+    double damage = 0, kappa = 0, delta0 = 0, delta_f = 0;
+    std::int64_t crack = 0;
+    bool operator==(const FailedBond&) const = default;
   };
+  static constexpr std::int64_t kNoCrack = 0, kTensionCrack = 1, kShearCrack = 2;
   /// One row per bond that has cracked or broken, in the order they did (settle_broken_bonds
   /// adds it), and each bond's row, -1 before (allocated if any_breakable): all of it is zero
   /// on every other bond, so it is not stored per bond (failed(b), bond_fracture_energy(b)...).
@@ -376,7 +394,7 @@ struct Model {
   [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
   [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
   /// Intact and not cracking: the bond enters its disks' strain fits.
-  [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || !cracks.cracking[b]); }
+  [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || failed_row[b] < 0); }
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const {
     return kind_ax.empty() ? x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])] : kind_ax[spring_kind[b]];
@@ -430,6 +448,10 @@ struct Model {
     return failed_row.empty() || failed_row[b] < 0 ? none : failed_rows[static_cast<std::size_t>(failed_row[b])];
   }
   [[nodiscard]] double bond_fracture_energy(std::size_t b) const { return failed_or_none(b).fracture_energy; }
+  /// The crack kind of bond b (FailedBond::crack; kNoCrack if it never cracked) and its
+  /// damage D (1 once broken, 0 if it never cracked or broke).
+  [[nodiscard]] std::int64_t bond_crack(std::size_t b) const { return failed_or_none(b).crack; }
+  [[nodiscard]] double bond_damage(std::size_t b) const { return failed_or_none(b).damage; }
   [[nodiscard]] double bond_break_kinetic(std::size_t b) const { return failed_or_none(b).break_kinetic; }
   [[nodiscard]] double bond_break_time(std::size_t b) const { return failed_or_none(b).break_time; }
   [[nodiscard]] double contact_damping_work(std::size_t b) const { return failed_or_none(b).damping_work; }
