@@ -154,6 +154,7 @@ void visit_model(M& m, V& v) {
   // adjacency
   v.state("adj_offset", m.adj_offset); v.state("adj_entry", m.adj_entry);
   v.rebuilt("scratch", m.scratch);  // work space of deterministic_sum
+  v.rebuilt("balance", m.balance);  // the threads' parts of the force passes' loops
   v.rebuilt("event_weights", m.event_weights);  // work space of settle_broken_bonds
   v.rebuilt("event_half", m.event_half);  // work space of settle_broken_bonds
   v.rebuilt("event_d_len", m.event_d_len);

@@ -172,25 +172,27 @@ void classify_local_criterion(Model& m) {
   const std::int32_t* __restrict body = m.body.data();
   const LocalCriterion::Body* __restrict bp = lc.body.data();
   std::uint8_t* __restrict out = m.local_criterion.disk.data();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const LocalCriterion::Body& p = bp[body[i]];
-    double e_tt = 0.0;
-    if constexpr (Axisym) e_tt = ett[i];
-    const double e_xx = exx[i], e_yy = eyy[i], e_xy = exy[i];
-    const double g = relative_criterion(p.lambda2, p.lambda3, p.mu, p.sin_phi, p.inv_ft, p.inv_fc, p.inv_mc, e_xx,
-                                        e_yy, e_xy, e_tt, out_of_plane);
-    const double terms = p.moduli * (std::abs(e_xx) + std::abs(e_yy) + 2 * std::abs(e_xy) + std::abs(e_tt));
-    const int far = (g < p.far_below) & (terms * p.inv_max < 1e6);  // NaN: not far
-    const int full = (ok[i] != 0) & (offset[i + 1] - offset[i] == 6);
-    out[i] = static_cast<std::uint8_t>(full * (2 - far));
-  }
+  m.balance.classify.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+      const LocalCriterion::Body& p = bp[body[i]];
+      double e_tt = 0.0;
+      if constexpr (Axisym) e_tt = ett[i];
+      const double e_xx = exx[i], e_yy = eyy[i], e_xy = exy[i];
+      const double g = relative_criterion(p.lambda2, p.lambda3, p.mu, p.sin_phi, p.inv_ft, p.inv_fc, p.inv_mc, e_xx,
+                                          e_yy, e_xy, e_tt, out_of_plane);
+      const double terms = p.moduli * (std::abs(e_xx) + std::abs(e_yy) + 2 * std::abs(e_xy) + std::abs(e_tt));
+      const int far = (g < p.far_below) & (terms * p.inv_max < 1e6);  // NaN: not far
+      const int full = (ok[i] != 0) & (offset[i + 1] - offset[i] == 6);
+      out[i] = static_cast<std::uint8_t>(full * (2 - far));
+    }
+  });
 }
 
 void compute_disk_strains(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) disk_strain(m, static_cast<std::size_t>(i));
+  m.balance.strains.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) disk_strain(m, static_cast<std::size_t>(i));
+  });
   if (!m.local_criterion.disk.empty()) {
     if (m.geometry == Geometry::Axisymmetric) {
       classify_local_criterion<true>(m);
@@ -214,32 +216,33 @@ void compute_nonlocal_strains(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
   const bool axisym = m.geometry == Geometry::Axisymmetric, plane_stress = m.geometry == Geometry::PlaneStress;
   constexpr double kAlways = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const auto iu = static_cast<std::size_t>(i);
-    double g = 0;  // not in any average
-    if (nl.offset[iu + 1] > nl.offset[iu] && m.strain.ok[iu] && m.initial_bonds(iu) == 6) {
-      const auto body = static_cast<std::size_t>(m.body[iu]);
-      const std::int32_t l = m.body_failure_law[body];
-      if (nl.body_inv_ft[body] > 0 && l >= 0) {
-        // The criteria of softening_bond at the disk's own strain (convex in the stress).
-        const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
-        g = relative_criterion(sp.lambda2, sp.lambda3, sp.mu, sp.mc.sin_phi, nl.body_inv_ft[body], nl.body_inv_fc[body],
-                               nl.body_inv_mc[body], m.strain.eps_xx[iu], m.strain.eps_yy[iu], m.strain.eps_xy[iu],
-                               axisym ? hoop_strain(m, iu) : 0.0, plane_stress ? 0.0 : 1.0);
-        if (!(g == g)) g = kAlways;  // NaN: let the exact test see it
-      } else {
-        g = kAlways;  // no bound for this body: always checked
+  m.balance.nonlocal_strains.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      double g = 0;  // not in any average
+      if (nl.offset[iu + 1] > nl.offset[iu] && m.strain.ok[iu] && m.initial_bonds(iu) == 6) {
+        const auto body = static_cast<std::size_t>(m.body[iu]);
+        const std::int32_t l = m.body_failure_law[body];
+        if (nl.body_inv_ft[body] > 0 && l >= 0) {
+          // The criteria of softening_bond at the disk's own strain (convex in the stress).
+          const SofteningParams& sp = m.softening[static_cast<std::size_t>(l)];
+          g = relative_criterion(sp.lambda2, sp.lambda3, sp.mu, sp.mc.sin_phi, nl.body_inv_ft[body], nl.body_inv_fc[body],
+                                 nl.body_inv_mc[body], m.strain.eps_xx[iu], m.strain.eps_yy[iu], m.strain.eps_xy[iu],
+                                 axisym ? hoop_strain(m, iu) : 0.0, plane_stress ? 0.0 : 1.0);
+          if (!(g == g)) g = kAlways;  // NaN: let the exact test see it
+        } else {
+          g = kAlways;  // no bound for this body: always checked
+        }
       }
+      nl.relative[iu] = g;
+      // The strain packed per disk for the averages' gather (one cache line per row entry).
+      double* e = nl.packed.data() + 4 * iu;
+      e[0] = m.strain.eps_xx[iu];
+      e[1] = m.strain.eps_yy[iu];
+      e[2] = m.strain.eps_xy[iu];
+      e[3] = axisym ? m.strain.eps_tt[iu] : 0.0;  // once per disk, not per row entry
     }
-    nl.relative[iu] = g;
-    // The strain packed per disk for the averages' gather (one cache line per row entry).
-    double* e = nl.packed.data() + 4 * iu;
-    e[0] = m.strain.eps_xx[iu];
-    e[1] = m.strain.eps_yy[iu];
-    e[2] = m.strain.eps_xy[iu];
-    e[3] = axisym ? m.strain.eps_tt[iu] : 0.0;  // once per disk, not per row entry
-  }
+  });
   std::fill(nl.cell_max.begin(), nl.cell_max.end(), 0.0);
   for (std::ptrdiff_t i = 0; i < n; ++i) {  // maxima: the same in any order
     double& c = nl.cell_max[static_cast<std::size_t>(nl.cell[static_cast<std::size_t>(i)])];
@@ -264,24 +267,25 @@ void compute_nonlocal_strains(Model& m) {
       block(x, y, [&](std::size_t c) { near = near || (nl.hot[c] & 1) != 0; });
       if (near) nl.hot[static_cast<std::size_t>(y * cx + x)] |= 2;
     }
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const auto iu = static_cast<std::size_t>(i);
-    if ((nl.hot[static_cast<std::size_t>(nl.cell[iu])] & 2) == 0) continue;  // no bond of it is checked
-    double exx = 0, eyy = 0, exy = 0, ett = 0;
-    for (std::uint32_t k = nl.offset[iu]; k < nl.offset[iu + 1]; ++k) {
-      const double* e = nl.packed.data() + 4 * static_cast<std::size_t>(nl.nbr[k]);
-      const double w = nl.w[k];
-      exx += w * e[0];
-      eyy += w * e[1];
-      exy += w * e[2];
-      if (axisym) ett += w * e[3];
+  m.balance.nonlocal_check.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      if ((nl.hot[static_cast<std::size_t>(nl.cell[iu])] & 2) == 0) continue;  // no bond of it is checked
+      double exx = 0, eyy = 0, exy = 0, ett = 0;
+      for (std::uint32_t k = nl.offset[iu]; k < nl.offset[iu + 1]; ++k) {
+        const double* e = nl.packed.data() + 4 * static_cast<std::size_t>(nl.nbr[k]);
+        const double w = nl.w[k];
+        exx += w * e[0];
+        eyy += w * e[1];
+        exy += w * e[2];
+        if (axisym) ett += w * e[3];
+      }
+      nl.eps_xx[iu] = exx;
+      nl.eps_yy[iu] = eyy;
+      nl.eps_xy[iu] = exy;
+      if (axisym) nl.eps_tt[iu] = ett;
     }
-    nl.eps_xx[iu] = exx;
-    nl.eps_yy[iu] = eyy;
-    nl.eps_xy[iu] = exy;
-    if (axisym) nl.eps_tt[iu] = ett;
-  }
+  });
 }
 
 /// Axisymmetric hoop term of disk i: A b [(lambda + 2 mu) eps_tt^2 / 2 + lambda eps_tt
@@ -333,46 +337,47 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) { return hoop_stres
 /// hoop_break_kinetic).
 void update_hoop_damage(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
-    if (!(sp.G_F > 0) || !m.strain.ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
-    const double lam = m.hoop.lambda[i], M = lam + 2 * m.hoop.mu[i];
-    const double s = M * m.strain.eps_tt[i] + lam * (m.strain.eps_xx[i] + m.strain.eps_yy[i]);
-    const double e = s / M;
-    const double e_last = m.hoop_cracks.e_last[i];
-    m.hoop_cracks.e_last[i] = e;
-    if (m.hoop_cracks.ef[i] == 0) {
-      const double f_t = m.failure_laws[static_cast<std::size_t>(m.body[i])].f_t *
-                         (m.disk_strength_scale.empty() ? 1.0 : m.disk_strength_scale[i]);
-      if (!(s > f_t)) continue;
-      const double h = 2 * 3.14159265358979323846 * m.disk_weight(i) / sp.radial_cracks;
-      m.hoop_cracks.e0[i] = e;
-      m.hoop_cracks.ef[i] = std::max(2 * sp.G_F / (h * f_t), e);
-      m.hoop_cracks.kappa[i] = e;
-    }
-    if (e > m.hoop_cracks.kappa[i]) {
-      const double d = laws::LinearSoftening::damage(e, m.hoop_cracks.e0[i], m.hoop_cracks.ef[i]);
-      // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
-      // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
-      // dD (E_h - half step of the force drop), the half step taken as for the bonds).
-      const double eps_tt = m.strain.eps_tt[i], tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
-      const bool cut = !m.hoop.cut.empty() && m.hoop.cut[i];
-      const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
-                            : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
-      if (d > m.hoop_cracks.damage[i] && (cut || eps_tt > 0) && eh > 0) {
-        // The half step, A b (s d(eps_tt) + lambda eps_tt d(tr)) / 2, is taken as A b s d(s/M) / 2
-        // with the driver of the last step (the hoop share of the in-plane force is small).
-        const double half = 0.5 * m.cell_area[i] * m.disk_weight(i) * s * (e - e_last);
-        const double released = (d - m.hoop_cracks.damage[i]) * (eh - half);
-        m.hoop_cracks.fracture[i] += std::max(released, 0.0);
-        m.hoop_cracks.break_kinetic[i] += std::min(released, 0.0);
-        m.hoop_cracks.damage[i] = d;
+  m.balance.hoop.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto ii = static_cast<std::ptrdiff_t>(lo_); ii < static_cast<std::ptrdiff_t>(hi_); ++ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
+      if (!(sp.G_F > 0) || !m.strain.ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
+      const double lam = m.hoop.lambda[i], M = lam + 2 * m.hoop.mu[i];
+      const double s = M * m.strain.eps_tt[i] + lam * (m.strain.eps_xx[i] + m.strain.eps_yy[i]);
+      const double e = s / M;
+      const double e_last = m.hoop_cracks.e_last[i];
+      m.hoop_cracks.e_last[i] = e;
+      if (m.hoop_cracks.ef[i] == 0) {
+        const double f_t = m.failure_laws[static_cast<std::size_t>(m.body[i])].f_t *
+                           (m.disk_strength_scale.empty() ? 1.0 : m.disk_strength_scale[i]);
+        if (!(s > f_t)) continue;
+        const double h = 2 * 3.14159265358979323846 * m.disk_weight(i) / sp.radial_cracks;
+        m.hoop_cracks.e0[i] = e;
+        m.hoop_cracks.ef[i] = std::max(2 * sp.G_F / (h * f_t), e);
         m.hoop_cracks.kappa[i] = e;
       }
+      if (e > m.hoop_cracks.kappa[i]) {
+        const double d = laws::LinearSoftening::damage(e, m.hoop_cracks.e0[i], m.hoop_cracks.ef[i]);
+        // The hoop term E_h = A b [M eps_tt^2 / 2 + lambda eps_tt tr] is multiplied by 1 - D_h
+        // while eps_tt > 0; damage grows only while E_h > 0 (a step then releases
+        // dD (E_h - half step of the force drop), the half step taken as for the bonds).
+        const double eps_tt = m.strain.eps_tt[i], tr = m.strain.eps_xx[i] + m.strain.eps_yy[i];
+        const bool cut = !m.hoop.cut.empty() && m.hoop.cut[i];
+        const double eh = cut ? m.cell_area[i] * m.disk_weight(i) * s * s / (2 * M)
+                              : m.cell_area[i] * m.disk_weight(i) * eps_tt * (0.5 * M * eps_tt + lam * tr);
+        if (d > m.hoop_cracks.damage[i] && (cut || eps_tt > 0) && eh > 0) {
+          // The half step, A b (s d(eps_tt) + lambda eps_tt d(tr)) / 2, is taken as A b s d(s/M) / 2
+          // with the driver of the last step (the hoop share of the in-plane force is small).
+          const double half = 0.5 * m.cell_area[i] * m.disk_weight(i) * s * (e - e_last);
+          const double released = (d - m.hoop_cracks.damage[i]) * (eh - half);
+          m.hoop_cracks.fracture[i] += std::max(released, 0.0);
+          m.hoop_cracks.break_kinetic[i] += std::min(released, 0.0);
+          m.hoop_cracks.damage[i] = d;
+          m.hoop_cracks.kappa[i] = e;
+        }
+      }
     }
-  }
+  });
 }
 
 /// Plastic correction of J2 disk i [J]: V [psi(eps - eps_p) - psi(eps)] = V mu (eps_p:eps_p -
@@ -473,10 +478,11 @@ void j2_return_mapping(Model& m, std::size_t i) {
 
 void return_mapping(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (m.j2.sigma_y[static_cast<std::size_t>(i)] > 0) j2_return_mapping(m, static_cast<std::size_t>(i));
-  }
+  m.balance.j2.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+      if (m.j2.sigma_y[static_cast<std::size_t>(i)] > 0) j2_return_mapping(m, static_cast<std::size_t>(i));
+    }
+  });
 }
 
 /// Stored hardening energy of J2 disk i, A w (1/3) H eps_p : eps_p [J]: with Prager's
@@ -869,105 +875,106 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   // Softening: bonds that no criterion can break take softening_bond's forces here.
   const bool far = Softening && !m.local_criterion.disk.empty();
   const std::int32_t* __restrict row = Softening ? m.failed_row.data() : nullptr;  // cracking: a row
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t b = 0; b < nb; ++b) {
-    const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
-    const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-    const auto [len, nx, ny] = bond_geometry(m.ref_ax(static_cast<std::size_t>(b)), m.ref_ay(static_cast<std::size_t>(b)), m.ux.data(), m.uy.data(), i, j);
-    m.nx[b] = nx;
-    m.ny[b] = ny;
-    if constexpr (Breakable) {
-      if (!m.bond_intact(static_cast<std::size_t>(b))) {
-        broken_bond_contact(m, static_cast<std::size_t>(b), len, nx, ny, dt, dt);
-        continue;
-      }
-    }
-    // Eq. 2: the shear increment from the relative velocity and the spins (rotation model),
-    // or u_s from the disks' strains (local-strain model).
-    double du_s = 0.0;
-    if constexpr (Rotation) {
-      du_s = rotation_shear_increment(dt, vx, vy, om, m.radius.data(), i, j, nx, ny);
-    } else {
-      const double u_s = local_shear_of(static_cast<std::size_t>(b), i, j);
-      du_s = u_s - m.u_s[b];
-      m.u_s[b] = u_s;
-    }
-    double du_n = 0.0;  // the stretch over the last step (hardening, softening, strain rate)
-    if constexpr (Plastic || Breakable) du_n = len - m.len_prev[b];
-    if constexpr (Softening) {
-      const std::int32_t law_b = m.bond_failure_law(static_cast<std::size_t>(b));
-      if (law_b >= 0 && m.softening[static_cast<std::size_t>(law_b)].G_F > 0) {
-        // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
-        if constexpr (Rotation) m.u_s[b] += du_s;
-        if (far && row[b] < 0 && m.local_criterion.far(i, j)) {
-          // softening_bond's forces of an intact bond (D = 0) that no criterion can break.
-          m.f_n[b] = kn_of[kb] * (len - m.rest(static_cast<std::size_t>(b)));
-          m.f_s[b] = ks_of[kb] * m.u_s[b];
-          m.len_prev[b] = len;
+  m.balance.bonds.run(static_cast<std::size_t>(nb), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto b = static_cast<std::ptrdiff_t>(lo_); b < static_cast<std::ptrdiff_t>(hi_); ++b) {
+      const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
+      const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
+      const auto [len, nx, ny] = bond_geometry(m.ref_ax(static_cast<std::size_t>(b)), m.ref_ay(static_cast<std::size_t>(b)), m.ux.data(), m.uy.data(), i, j);
+      m.nx[b] = nx;
+      m.ny[b] = ny;
+      if constexpr (Breakable) {
+        if (!m.bond_intact(static_cast<std::size_t>(b))) {
+          broken_bond_contact(m, static_cast<std::size_t>(b), len, nx, ny, dt, dt);
           continue;
         }
-        softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
-        continue;
       }
-    }
-    bool hardening = false;
-    if constexpr (Plastic) hardening = m.bond_plastic.f_yield[b] > 0;
-    if (hardening) {
-      // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
-      laws::BilinearState sn{m.f_n[b], m.bond_plastic.alpha_n[b]};
-      const laws::BilinearKinematic normal{kn_of[kb], m.bond_plastic.kh_n[b], m.bond_plastic.f_yield[b]};
-      double work = normal.update(sn, du_n).dissipation_trapezoid;
-      m.f_n[b] = sn.f;
-      m.bond_plastic.alpha_n[b] = sn.alpha;
-      if (ks_of[kb] > 0) {
-        laws::BilinearState ss{m.f_s[b], m.bond_plastic.alpha_s[b]};
-        const laws::BilinearKinematic shear{ks_of[kb], m.bond_plastic.kh_s[b], m.bond_plastic.f_yield[b]};
-        work += shear.update(ss, du_s).dissipation_trapezoid;
-        m.f_s[b] = ss.f;
-        m.bond_plastic.alpha_s[b] = ss.alpha;
-      } else {
-        m.f_s[b] += ks_of[kb] * du_s;
-      }
-      m.bond_plastic.work[b] += work;
-      if (m.bond_plastic.alpha_n[b] != 0.0 || m.bond_plastic.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
-    } else {
-      // Eq. 2 (normal spring on the current length, objective) and the shear spring.
-      m.f_n[b] = kn_of[kb] * (len - m.rest(b));
+      // Eq. 2: the shear increment from the relative velocity and the spins (rotation model),
+      // or u_s from the disks' strains (local-strain model).
+      double du_s = 0.0;
       if constexpr (Rotation) {
-        m.f_s[b] += ks_of[kb] * du_s;
+        du_s = rotation_shear_increment(dt, vx, vy, om, m.radius.data(), i, j, nx, ny);
       } else {
-        m.f_s[b] = ks_of[kb] * m.u_s[b];
+        const double u_s = local_shear_of(static_cast<std::size_t>(b), i, j);
+        du_s = u_s - m.u_s[b];
+        m.u_s[b] = u_s;
       }
-      // Bonds of J2 disks are elastic; they report the disks' yielding (bonds join the disks
-      // of one body).
-      if constexpr (J2) {
-        if (m.j2.eps_p_eq[i] > 0 || m.j2.eps_p_eq[j] > 0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
-      }
-    }
-    if constexpr (Plastic || Breakable) m.len_prev[b] = len;
-    if constexpr (Breakable) {
-      const std::int32_t law_b = m.bond_failure_law(static_cast<std::size_t>(b));
-      if (law_b >= 0) {
-        // Eqs. 17, 19, 20: the strengths of the bond's section, with the rate factors of the
-        // bond's strain rate over the last step. The factors are >= 1 and only raise the
-        // strengths, so a bond that holds at its static strengths holds: they (two logarithms)
-        // are computed only for the bonds that do not.
-        const auto l = static_cast<std::size_t>(law_b);
-        const double sec = m.bond_section(b) * m.strength_factor(static_cast<std::size_t>(b));
-        laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec));
-        if (mode != laws::FailureMode::None) {  // the strain rate (a division) only then
-          const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest(b)) : 0.0;
-          if (edot > 1.0) {
-            const laws::RateFactors rf = m.failure_laws[l].rate_factors(edot);
-            mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, rf, sec));
+      double du_n = 0.0;  // the stretch over the last step (hardening, softening, strain rate)
+      if constexpr (Plastic || Breakable) du_n = len - m.len_prev[b];
+      if constexpr (Softening) {
+        const std::int32_t law_b = m.bond_failure_law(static_cast<std::size_t>(b));
+        if (law_b >= 0 && m.softening[static_cast<std::size_t>(law_b)].G_F > 0) {
+          // The rotation model's shear displacement is accumulated: the force is (1 - D) k_s u_s.
+          if constexpr (Rotation) m.u_s[b] += du_s;
+          if (far && row[b] < 0 && m.local_criterion.far(i, j)) {
+            // softening_bond's forces of an intact bond (D = 0) that no criterion can break.
+            m.f_n[b] = kn_of[kb] * (len - m.rest(static_cast<std::size_t>(b)));
+            m.f_s[b] = ks_of[kb] * m.u_s[b];
+            m.len_prev[b] = len;
+            continue;
           }
+          softening_bond(m, static_cast<std::size_t>(b), len, du_n, du_s, dt);
+          continue;
         }
-        // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into
-        // a contact and books what the break releases.
-        if (mode != laws::FailureMode::None) m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
+      }
+      bool hardening = false;
+      if constexpr (Plastic) hardening = m.bond_plastic.f_yield[b] > 0;
+      if (hardening) {
+        // Eq. 16: bilinear kinematic hardening, incrementally (exact for any increment).
+        laws::BilinearState sn{m.f_n[b], m.bond_plastic.alpha_n[b]};
+        const laws::BilinearKinematic normal{kn_of[kb], m.bond_plastic.kh_n[b], m.bond_plastic.f_yield[b]};
+        double work = normal.update(sn, du_n).dissipation_trapezoid;
+        m.f_n[b] = sn.f;
+        m.bond_plastic.alpha_n[b] = sn.alpha;
+        if (ks_of[kb] > 0) {
+          laws::BilinearState ss{m.f_s[b], m.bond_plastic.alpha_s[b]};
+          const laws::BilinearKinematic shear{ks_of[kb], m.bond_plastic.kh_s[b], m.bond_plastic.f_yield[b]};
+          work += shear.update(ss, du_s).dissipation_trapezoid;
+          m.f_s[b] = ss.f;
+          m.bond_plastic.alpha_s[b] = ss.alpha;
+        } else {
+          m.f_s[b] += ks_of[kb] * du_s;
+        }
+        m.bond_plastic.work[b] += work;
+        if (m.bond_plastic.alpha_n[b] != 0.0 || m.bond_plastic.alpha_s[b] != 0.0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+      } else {
+        // Eq. 2 (normal spring on the current length, objective) and the shear spring.
+        m.f_n[b] = kn_of[kb] * (len - m.rest(b));
+        if constexpr (Rotation) {
+          m.f_s[b] += ks_of[kb] * du_s;
+        } else {
+          m.f_s[b] = ks_of[kb] * m.u_s[b];
+        }
+        // Bonds of J2 disks are elastic; they report the disks' yielding (bonds join the disks
+        // of one body).
+        if constexpr (J2) {
+          if (m.j2.eps_p_eq[i] > 0 || m.j2.eps_p_eq[j] > 0) m.state[b] = static_cast<std::uint8_t>(BondState::Yielded);
+        }
+      }
+      if constexpr (Plastic || Breakable) m.len_prev[b] = len;
+      if constexpr (Breakable) {
+        const std::int32_t law_b = m.bond_failure_law(static_cast<std::size_t>(b));
+        if (law_b >= 0) {
+          // Eqs. 17, 19, 20: the strengths of the bond's section, with the rate factors of the
+          // bond's strain rate over the last step. The factors are >= 1 and only raise the
+          // strengths, so a bond that holds at its static strengths holds: they (two logarithms)
+          // are computed only for the bonds that do not.
+          const auto l = static_cast<std::size_t>(law_b);
+          const double sec = m.bond_section(b) * m.strength_factor(static_cast<std::size_t>(b));
+          laws::FailureMode mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec));
+          if (mode != laws::FailureMode::None) {  // the strain rate (a division) only then
+            const double edot = dt > 0 ? std::abs(du_n) / (dt * m.rest(b)) : 0.0;
+            if (edot > 1.0) {
+              const laws::RateFactors rf = m.failure_laws[l].rate_factors(edot);
+              mode = laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, rf, sec));
+            }
+          }
+          // The bond still acts, intact, in this evaluation; settle_broken_bonds turns it into
+          // a contact and books what the break releases.
+          if (mode != laws::FailureMode::None) m.newly_broken[b] = static_cast<std::uint8_t>(1 + static_cast<int>(mode));
+        }
       }
     }
-  }
+  });
 }
 
 /// Pass B for an elastic lattice (no plasticity, failure or J2 disks): the paper's Eq. 2.
@@ -999,32 +1006,33 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   double* __restrict pair_fx = m.pair_fx.data();
   double* __restrict pair_fy = m.pair_fy.data();
   const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t b = 0; b < nb; ++b) {
-    const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
-    const auto i = static_cast<std::size_t>(bi[b]), j = static_cast<std::size_t>(bj[b]);
-    double ax, ay, rest_b;
-    if (geometry_per_kind) {
-      const std::size_t k = kind[b];
-      ax = kind_ax[k], ay = kind_ay[k], rest_b = kind_rest[k];
-    } else {
-      ax = x0[j] - x0[i], ay = y0[j] - y0[i], rest_b = rest[b];
+  m.balance.elastic_bonds.run(static_cast<std::size_t>(nb), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto b = static_cast<std::ptrdiff_t>(lo_); b < static_cast<std::ptrdiff_t>(hi_); ++b) {
+      const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
+      const auto i = static_cast<std::size_t>(bi[b]), j = static_cast<std::size_t>(bj[b]);
+      double ax, ay, rest_b;
+      if (geometry_per_kind) {
+        const std::size_t k = kind[b];
+        ax = kind_ax[k], ay = kind_ay[k], rest_b = kind_rest[k];
+      } else {
+        ax = x0[j] - x0[i], ay = y0[j] - y0[i], rest_b = rest[b];
+      }
+      const auto [len, nx, ny] = bond_geometry(ax, ay, ux, uy, i, j);
+      const double f_n = kn[kb] * (len - rest_b);
+      // The pair force on bi (Eq. 3), for the gather: f_n n, and in the rotation model + f_s s.
+      double f_x = f_n * nx, f_y = f_n * ny;
+      if constexpr (Rotation) {
+        const double fs = f_s[b] + ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
+        f_s[b] = fs;
+        f_x -= fs * ny;
+        f_y += fs * nx;
+      } else {
+        f_s[b] = ks[kb] * local_shear_of(static_cast<std::size_t>(b), i, j);  // u_s is not kept (Model::u_s)
+      }
+      pair_fx[b] = f_x;
+      pair_fy[b] = f_y;
     }
-    const auto [len, nx, ny] = bond_geometry(ax, ay, ux, uy, i, j);
-    const double f_n = kn[kb] * (len - rest_b);
-    // The pair force on bi (Eq. 3), for the gather: f_n n, and in the rotation model + f_s s.
-    double f_x = f_n * nx, f_y = f_n * ny;
-    if constexpr (Rotation) {
-      const double fs = f_s[b] + ks[kb] * rotation_shear_increment(dt, vx, vy, om, radius, i, j, nx, ny);
-      f_s[b] = fs;
-      f_x -= fs * ny;
-      f_y += fs * nx;
-    } else {
-      f_s[b] = ks[kb] * local_shear_of(static_cast<std::size_t>(b), i, j);  // u_s is not kept (Model::u_s)
-    }
-    pair_fx[b] = f_x;
-    pair_fy[b] = f_y;
-  }
+  });
 }
 
 /// The bond pass for each combination of laws, chosen once per pass instead of per bond; an
@@ -1066,38 +1074,39 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
   const AdjacencyView a(m);
   const double* __restrict f_s = m.f_s.data();
   const LocalShearView g(m);  // its g, per bond or per kind
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    double sxx = 0, syy = 0, sxy = 0;
-    if (shear_springs) {
-      for (auto k = adj_offset[i]; k < adj_offset[i + 1]; ++k) {
-        const std::size_t b = a.bond(k);
-        if (a.state[b] > 1) continue;  // !Model::bond_intact
-        const double fs = f_s[b];
-        const std::size_t gb = g.g_index(b);
-        sxx += fs * g.g_xx[gb];
-        syy += fs * g.g_yy[gb];
-        sxy += fs * g.g_xy[gb];
+  m.balance.conjugates.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+      double sxx = 0, syy = 0, sxy = 0;
+      if (shear_springs) {
+        for (auto k = adj_offset[i]; k < adj_offset[i + 1]; ++k) {
+          const std::size_t b = a.bond(k);
+          if (a.state[b] > 1) continue;  // !Model::bond_intact
+          const double fs = f_s[b];
+          const std::size_t gb = g.g_index(b);
+          sxx += fs * g.g_xx[gb];
+          syy += fs * g.g_yy[gb];
+          sxy += fs * g.g_xy[gb];
+        }
       }
+      if (hoop) {
+        const double c = m.cell_area[i] * m.disk_weight(i) * hoop_stress(m, i, m.strain.eps_tt[i]).in_plane;
+        sxx += c;
+        syy += c;
+      }
+      if (m.any_j2 && m.j2.sigma_y[i] > 0) {
+        const double c = -2 * m.hoop.mu[i] * m.cell_area[i] * m.disk_weight(i);
+        sxx += c * m.j2.eps_p_xx[i];
+        syy += c * m.j2.eps_p_yy[i];
+        sxy += c * m.j2.eps_p_xy[i];
+      }
+      if (m.on_mirror(i)) sxy = 0.0;  // the projection's adjoint (energy consistency)
+      const double mxx = m.strain.minv_xx[i], mxy = m.strain.minv_xy[i], myy = m.strain.minv_yy[i];
+      m.strain.w_xx[i] = sxx * mxx + sxy * mxy;
+      m.strain.w_xy[i] = sxx * mxy + sxy * myy;
+      m.strain.w_yx[i] = sxy * mxx + syy * mxy;
+      m.strain.w_yy[i] = sxy * mxy + syy * myy;
     }
-    if (hoop) {
-      const double c = m.cell_area[i] * m.disk_weight(i) * hoop_stress(m, i, m.strain.eps_tt[i]).in_plane;
-      sxx += c;
-      syy += c;
-    }
-    if (m.any_j2 && m.j2.sigma_y[i] > 0) {
-      const double c = -2 * m.hoop.mu[i] * m.cell_area[i] * m.disk_weight(i);
-      sxx += c * m.j2.eps_p_xx[i];
-      syy += c * m.j2.eps_p_yy[i];
-      sxy += c * m.j2.eps_p_xy[i];
-    }
-    if (m.on_mirror(i)) sxy = 0.0;  // the projection's adjoint (energy consistency)
-    const double mxx = m.strain.minv_xx[i], mxy = m.strain.minv_xy[i], myy = m.strain.minv_yy[i];
-    m.strain.w_xx[i] = sxx * mxx + sxy * mxy;
-    m.strain.w_xy[i] = sxx * mxy + sxy * myy;
-    m.strain.w_yx[i] = sxy * mxx + syy * mxy;
-    m.strain.w_yy[i] = sxy * mxy + syy * myy;
-  }
+  });
 }
 
 /// Pass D: gather the forces on each disk. Pair forces (Eq. 3): the force on bi is
@@ -1127,77 +1136,78 @@ void gather_forces(Model& m) {
   double* __restrict out_fx = m.fx.data();
   double* __restrict out_fy = m.fy.data();
   double* __restrict out_tq = m.torque.data();
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const auto iu = static_cast<std::size_t>(i);
-    double fx = 0, fy = 0, tq = 0;
-    const double r_i = radius[i];
-    // Disk i's terms of the strain forces (StrainTerms): its centre, its W and whether it has a fit.
-    double x_i = 0, y_i = 0, wi_xx = 0, wi_xy = 0, wi_yx = 0, wi_yy = 0, co = 0;
-    if constexpr (StrainTerms) {
-      x_i = a.x0[i], y_i = a.y0[i];
-      wi_xx = w_xx[i], wi_xy = w_xy[i], wi_yx = w_yx[i], wi_yy = w_yy[i];
-      co = a.ok[i] ? 1.0 : 0.0;
-    }
-    for (auto k = offset[i]; k < offset[i + 1]; ++k) {
-      // Model::adj_bond and adj_sign: the entry is b where i is the bond's bi, ~b where bj.
-      const std::size_t b = a.bond(k);
-      const double s = a.entry[k] >= 0 ? 1.0 : -1.0;
-      if constexpr (Elastic) {
-        // The bond pass's pair force (f_n n, + f_s s in the rotation model) and its moment.
-        fx += s * pair_fx[b];
-        fy += s * pair_fy[b];
-        if constexpr (PairShear) tq += r_i * f_s[b];
-      } else {
-        const double nx = bnx[b], ny = bny[b];
-        double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
-        if constexpr (Breakable) {
-          if (a.state[b] > 1) {  // !Model::bond_intact
-            // A broken bond in contact: pair force with friction and its moment.
+  m.balance.gather.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
+    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      double fx = 0, fy = 0, tq = 0;
+      const double r_i = radius[i];
+      // Disk i's terms of the strain forces (StrainTerms): its centre, its W and whether it has a fit.
+      double x_i = 0, y_i = 0, wi_xx = 0, wi_xy = 0, wi_yx = 0, wi_yy = 0, co = 0;
+      if constexpr (StrainTerms) {
+        x_i = a.x0[i], y_i = a.y0[i];
+        wi_xx = w_xx[i], wi_xy = w_xy[i], wi_yx = w_yx[i], wi_yy = w_yy[i];
+        co = a.ok[i] ? 1.0 : 0.0;
+      }
+      for (auto k = offset[i]; k < offset[i + 1]; ++k) {
+        // Model::adj_bond and adj_sign: the entry is b where i is the bond's bi, ~b where bj.
+        const std::size_t b = a.bond(k);
+        const double s = a.entry[k] >= 0 ? 1.0 : -1.0;
+        if constexpr (Elastic) {
+          // The bond pass's pair force (f_n n, + f_s s in the rotation model) and its moment.
+          fx += s * pair_fx[b];
+          fy += s * pair_fy[b];
+          if constexpr (PairShear) tq += r_i * f_s[b];
+        } else {
+          const double nx = bnx[b], ny = bny[b];
+          double f_x = f_n[b] * nx, f_y = f_n[b] * ny;
+          if constexpr (Breakable) {
+            if (a.state[b] > 1) {  // !Model::bond_intact
+              // A broken bond in contact: pair force with friction and its moment.
+              f_x -= f_s[b] * ny;
+              f_y += f_s[b] * nx;
+              fx += s * f_x;
+              fy += s * f_y;
+              tq += r_i * f_s[b];
+              continue;
+            }
+          }
+          if constexpr (PairShear) {
             f_x -= f_s[b] * ny;
             f_y += f_s[b] * nx;
-            fx += s * f_x;
-            fy += s * f_y;
             tq += r_i * f_s[b];
-            continue;
+          }
+          fx += s * f_x;
+          fy += s * f_y;
+        }
+        if constexpr (StrainTerms) {
+          if (a.in_fit(b)) {
+            // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
+            // The other disk, from the bond's ends; Model::adj_ax.
+            const std::size_t o = a.other(b, iu);
+            const double ax = a.x0[o] - x_i, ay = a.y0[o] - y_i;
+            const double ci = a.ok[o] ? 1.0 : 0.0;
+            const double wxx = ci * wi_xx + co * w_xx[o], wxy = ci * wi_xy + co * w_xy[o];
+            const double wyx = ci * wi_yx + co * w_yx[o], wyy = ci * wi_yy + co * w_yy[o];
+            fx += wxx * ax + wxy * ay;
+            fy += wyx * ax + wyy * ay;
           }
         }
-        if constexpr (PairShear) {
-          f_x -= f_s[b] * ny;
-          f_y += f_s[b] * nx;
-          tq += r_i * f_s[b];
-        }
-        fx += s * f_x;
-        fy += s * f_y;
       }
-      if constexpr (StrainTerms) {
-        if (a.in_fit(b)) {
-          // d(eps_i)/d(u_i) through o, if o is in i's fit, and d(eps_o)/d(u_i), if i is in o's.
-          // The other disk, from the bond's ends; Model::adj_ax.
-          const std::size_t o = a.other(b, iu);
-          const double ax = a.x0[o] - x_i, ay = a.y0[o] - y_i;
-          const double ci = a.ok[o] ? 1.0 : 0.0;
-          const double wxx = ci * wi_xx + co * w_xx[o], wxy = ci * wi_xy + co * w_xy[o];
-          const double wyx = ci * wi_yx + co * w_yx[o], wyy = ci * wi_yy + co * w_yy[o];
-          fx += wxx * ax + wxy * ay;
-          fy += wyx * ax + wyy * ay;
-        }
+      if constexpr (Hoop) {
+        // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
+        double sigma_tt = hoop_stress(m, iu, m.strain.eps_tt[iu]).tt;
+        if constexpr (J2) sigma_tt -= 2 * m.hoop.mu[iu] * m.j2.eps_p_33[iu];
+        fx -= m.cell_area[iu] * sigma_tt;
       }
+      if constexpr (Mirror) {
+        fx -= m.mirror.kx[iu] * m.ux[iu];
+        fy -= m.mirror.ky[iu] * m.uy[iu];
+      }
+      out_fx[i] = fx;
+      out_fy[i] = fy;
+      out_tq[i] = tq;
     }
-    if constexpr (Hoop) {
-      // dE_h/du_r = A b sigma_tt / b; a J2 disk's correction adds -2 mu eps_p_tt to sigma_tt.
-      double sigma_tt = hoop_stress(m, iu, m.strain.eps_tt[iu]).tt;
-      if constexpr (J2) sigma_tt -= 2 * m.hoop.mu[iu] * m.j2.eps_p_33[iu];
-      fx -= m.cell_area[iu] * sigma_tt;
-    }
-    if constexpr (Mirror) {
-      fx -= m.mirror.kx[iu] * m.ux[iu];
-      fy -= m.mirror.ky[iu] * m.uy[iu];
-    }
-    out_fx[i] = fx;
-    out_fy[i] = fy;
-    out_tq[i] = tq;
-  }
+  });
 }
 
 /// The gather pass for each combination of terms, chosen once per pass.

@@ -22,6 +22,7 @@
 #include "hexdem/laws/failure.hpp"
 #include "hexdem/laws/softening.hpp"
 #include "hexdem/meshing/lattice.hpp"
+#include "hexdem/solver/load_balance.hpp"
 #include "hexdem/solver/material.hpp"
 
 namespace hexdem::solver {
@@ -229,6 +230,12 @@ struct DiskPlasticity {
   std::vector<double> work;  ///< work done on eps_p [J]
 };
 
+/// The threads' parts of the force passes' parallel loops (LoadBalance), one per loop:
+/// work space that follows the machine, not state (the results do not depend on it).
+struct KernelBalance {
+  LoadBalance classify, strains, nonlocal_strains, nonlocal_check, hoop, j2, bonds, elastic_bonds, conjugates, gather;
+};
+
 struct Model {
   Geometry geometry = Geometry::PlaneStress;
   ShearModel shear_model = ShearModel::LocalStrain;
@@ -386,6 +393,7 @@ struct Model {
   std::vector<std::int32_t> adj_entry;
 
   mutable std::vector<double> scratch;  ///< block sums of deterministic_sum
+  KernelBalance balance;                ///< the force passes' thread parts
   std::vector<double> event_weights;    ///< settle_broken_bonds: each event's stored energy
   std::vector<double> event_half;       ///< settle_broken_bonds: each event's own half step [J]
   std::vector<double> event_d_len;      ///< settle_broken_bonds: each event's length increment [m]
