@@ -9,6 +9,7 @@
 #include <array>
 #include <utility>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "hexdem/solver/model.hpp"
@@ -1369,13 +1370,18 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   const bool energy_strains = local || hoop || m.any_j2;
   const bool strains = energy_strains || m.any_softening;
   // The bonds found past their strength, in ascending order (a fixed order: deterministic).
-  std::size_t first = m.num_bonds();
-  std::size_t broken = 0;
-  for (std::size_t b = 0; b < m.num_bonds(); ++b) {
-    if (!m.newly_broken[b]) continue;
-    if (broken++ == 0) first = b;
+  // Most steps have none: the flags are scanned 8 at a time up to the first one.
+  const std::size_t nb = m.num_bonds();
+  const std::uint8_t* flags = m.newly_broken.data();
+  std::size_t first = 0;
+  for (std::uint64_t word = 0; first + 8 <= nb; first += 8) {
+    std::memcpy(&word, flags + first, 8);
+    if (word != 0) break;
   }
-  if (broken == 0) return 0;
+  while (first < nb && flags[first] == 0) ++first;
+  if (first == nb) return 0;
+  std::size_t broken = 0;
+  for (std::size_t b = first; b < nb; ++b) broken += flags[b] != 0 ? 1 : 0;
   // The cracks the pass started, in bond order (its threads added them in any order).
   std::sort(m.cracks.starts.begin(), m.cracks.starts.end(),
             [](const CrackStart& a, const CrackStart& c) { return a.bond < c.bond; });
