@@ -173,8 +173,8 @@ void classify_local_criterion(Model& m) {
   const std::int32_t* __restrict body = m.body.data();
   const LocalCriterion::Body* __restrict bp = lc.body.data();
   std::uint8_t* __restrict out = m.local_criterion.disk.data();
-  m.balance.classify.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+  m.balance.classify.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) {
       const LocalCriterion::Body& p = bp[body[i]];
       double e_tt = 0.0;
       if constexpr (Axisym) e_tt = ett[i];
@@ -191,8 +191,8 @@ void classify_local_criterion(Model& m) {
 
 void compute_disk_strains(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  m.balance.strains.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) disk_strain(m, static_cast<std::size_t>(i));
+  m.balance.strains.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) disk_strain(m, static_cast<std::size_t>(i));
   });
   if (!m.local_criterion.disk.empty()) {
     if (m.geometry == Geometry::Axisymmetric) {
@@ -217,8 +217,8 @@ void compute_nonlocal_strains(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
   const bool axisym = m.geometry == Geometry::Axisymmetric, plane_stress = m.geometry == Geometry::PlaneStress;
   constexpr double kAlways = std::numeric_limits<double>::infinity();
-  m.balance.nonlocal_strains.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+  m.balance.nonlocal_strains.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) {
       const auto iu = static_cast<std::size_t>(i);
       double g = 0;  // not in any average
       if (nl.offset[iu + 1] > nl.offset[iu] && m.strain.ok[iu] && m.initial_bonds(iu) == 6) {
@@ -268,8 +268,8 @@ void compute_nonlocal_strains(Model& m) {
       block(x, y, [&](std::size_t c) { near = near || (nl.hot[c] & 1) != 0; });
       if (near) nl.hot[static_cast<std::size_t>(y * cx + x)] |= 2;
     }
-  m.balance.nonlocal_check.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+  m.balance.nonlocal_check.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) {
       const auto iu = static_cast<std::size_t>(i);
       if ((nl.hot[static_cast<std::size_t>(nl.cell[iu])] & 2) == 0) continue;  // no bond of it is checked
       double exx = 0, eyy = 0, exy = 0, ett = 0;
@@ -338,8 +338,8 @@ inline HoopStress hoop_stress(const Model& m, std::size_t i) { return hoop_stres
 /// hoop_break_kinetic).
 void update_hoop_damage(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  m.balance.hoop.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto ii = static_cast<std::ptrdiff_t>(lo_); ii < static_cast<std::ptrdiff_t>(hi_); ++ii) {
+  m.balance.hoop.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto ii = static_cast<std::ptrdiff_t>(part_lo); ii < static_cast<std::ptrdiff_t>(part_hi); ++ii) {
       const auto i = static_cast<std::size_t>(ii);
       const SofteningParams& sp = m.softening[static_cast<std::size_t>(m.body[i])];
       if (!(sp.G_F > 0) || !m.strain.ok[i] || m.hoop_cracks.damage[i] >= 1.0) continue;
@@ -479,8 +479,8 @@ void j2_return_mapping(Model& m, std::size_t i) {
 
 void return_mapping(Model& m) {
   const auto n = static_cast<std::ptrdiff_t>(m.num_disks());
-  m.balance.j2.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+  m.balance.j2.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) {
       if (m.j2.sigma_y[static_cast<std::size_t>(i)] > 0) j2_return_mapping(m, static_cast<std::size_t>(i));
     }
   });
@@ -876,8 +876,8 @@ void bond_forces(Model& m, double dt, const double* __restrict vx, const double*
   // Softening: bonds that no criterion can break take softening_bond's forces here.
   const bool far = Softening && !m.local_criterion.disk.empty();
   const std::int32_t* __restrict row = Softening ? m.failed_row.data() : nullptr;  // cracking: a row
-  m.balance.bonds.run(static_cast<std::size_t>(nb), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto b = static_cast<std::ptrdiff_t>(lo_); b < static_cast<std::ptrdiff_t>(hi_); ++b) {
+  m.balance.bonds.run(static_cast<std::size_t>(nb), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto b = static_cast<std::ptrdiff_t>(part_lo); b < static_cast<std::ptrdiff_t>(part_hi); ++b) {
       const std::size_t kb = per_kind ? kind[b] : static_cast<std::size_t>(b);
       const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
       const auto [len, nx, ny] = bond_geometry(m.ref_ax(static_cast<std::size_t>(b)), m.ref_ay(static_cast<std::size_t>(b)), m.ux.data(), m.uy.data(), i, j);
@@ -1007,8 +1007,8 @@ void elastic_bond_forces(Model& m, double dt, const double* __restrict vx, const
   double* __restrict pair_fx = m.pair_fx.data();
   double* __restrict pair_fy = m.pair_fy.data();
   const LocalShearView local_shear_of(m);  // the local-strain model's (empty in the rotation model)
-  m.balance.elastic_bonds.run(static_cast<std::size_t>(nb), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto b = static_cast<std::ptrdiff_t>(lo_); b < static_cast<std::ptrdiff_t>(hi_); ++b) {
+  m.balance.elastic_bonds.run(static_cast<std::size_t>(nb), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto b = static_cast<std::ptrdiff_t>(part_lo); b < static_cast<std::ptrdiff_t>(part_hi); ++b) {
       const std::size_t kb = PerKind ? kind[b] : static_cast<std::size_t>(b);
       const auto i = static_cast<std::size_t>(bi[b]), j = static_cast<std::size_t>(bj[b]);
       double ax, ay, rest_b;
@@ -1075,8 +1075,8 @@ void compute_strain_conjugates(Model& m, bool shear_springs, bool hoop) {
   const AdjacencyView a(m);
   const double* __restrict f_s = m.f_s.data();
   const LocalShearView g(m);  // its g, per bond or per kind
-  m.balance.conjugates.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+  m.balance.conjugates.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) {
       double sxx = 0, syy = 0, sxy = 0;
       if (shear_springs) {
         for (auto k = adj_offset[i]; k < adj_offset[i + 1]; ++k) {
@@ -1137,8 +1137,8 @@ void gather_forces(Model& m) {
   double* __restrict out_fx = m.fx.data();
   double* __restrict out_fy = m.fy.data();
   double* __restrict out_tq = m.torque.data();
-  m.balance.gather.run(static_cast<std::size_t>(n), [&](std::size_t lo_, std::size_t hi_) {
-    for (auto i = static_cast<std::ptrdiff_t>(lo_); i < static_cast<std::ptrdiff_t>(hi_); ++i) {
+  m.balance.gather.run(static_cast<std::size_t>(n), [&](std::size_t part_lo, std::size_t part_hi) {
+    for (auto i = static_cast<std::ptrdiff_t>(part_lo); i < static_cast<std::ptrdiff_t>(part_hi); ++i) {
       const auto iu = static_cast<std::size_t>(i);
       double fx = 0, fy = 0, tq = 0;
       const double r_i = radius[i];
