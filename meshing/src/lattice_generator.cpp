@@ -731,6 +731,14 @@ constexpr double kMaxLatticeIndex = 1073741824.0;  // 2^30
 
 }  // namespace
 
+GeneratorOptions reader_size_limit(std::int64_t max_disks, const std::string& hint) {
+  GeneratorOptions limit;
+  const bool caller = max_disks > 0 && max_disks < kMaxDisksCeiling;
+  limit.max_disks = caller ? max_disks : kMaxDisksCeiling;
+  limit.max_disks_hint = caller ? hint : std::string();
+  return limit;
+}
+
 void check_lattice_size(const Outline& outline, const GeneratorOptions& options) {
   for (const BodyOutline& body : outline.bodies)
     for (const auto* loops : {&body.outers, &body.holes})

@@ -702,10 +702,7 @@ class Reader {
       throw InputError(message);
     }
     Outline outline = nest(loops);
-    GeneratorOptions ceiling;
-    ceiling.max_disks = kMaxDisksCeiling;
-    ceiling.max_disks_hint.clear();
-    check_lattice_size(outline, ceiling);
+    check_lattice_size(outline, reader_size_limit(options_.max_disks, options_.max_disks_hint));
     validate_and_orient(outline);
     return outline;
   }

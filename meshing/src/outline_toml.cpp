@@ -158,10 +158,7 @@ Outline Reader::read(const toml::table& root) {
   for (std::size_t i = 0; i < list.size(); ++i) read_body(*list.get(i)->as_table(), i, defaults);
 
   outline_.source = source_;
-  GeneratorOptions ceiling;
-  ceiling.max_disks = kMaxDisksCeiling;
-  ceiling.max_disks_hint.clear();
-  check_lattice_size(outline_, ceiling);
+  check_lattice_size(outline_, reader_size_limit(options_.max_disks, options_.max_disks_hint));
   validate_and_orient(outline_);
   return std::move(outline_);
 }

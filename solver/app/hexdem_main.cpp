@@ -161,6 +161,8 @@ int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
     if (!(a.scale > 0)) throw InputError("--scale: must be > 0 (got " + std::to_string(a.scale) + ")");
     ro.scale = a.scale;
   }
+  ro.max_disks = a.max_disks;  // checked before the loops are validated, and again by the generator
+  ro.max_disks_hint = "--max-disks N";
 
   std::vector<std::string> warnings;
   const std::string ext = lower_extension(a.outline);
@@ -228,8 +230,7 @@ struct RunArgs {
 
 int run_run(const RunArgs& a) {
   if (!a.restart.empty()) require_regular_file(a.restart, "the checkpoint (--restart)");
-  solver::Case c = solver::read_case(a.case_file, a.sets);
-  if (a.max_disks) c.max_disks = *a.max_disks;
+  solver::Case c = solver::read_case(a.case_file, a.sets, a.max_disks);
   for (const std::string& w : c.warnings) std::cerr << "hexdem: warning: " << w << "\n";
   solver::RunOptions ro;
   ro.out_dir = a.out_dir;

@@ -99,7 +99,7 @@ class Reader : public meshing::TomlValues {
   Reader(std::string source, std::string base_dir)
       : TomlValues(std::move(source)), base_dir_(std::move(base_dir)) {}
 
-  Case read(toml::table& root);
+  Case read(toml::table& root, std::optional<std::int64_t> max_disks);
 
   using TomlValues::fail;
   using TomlValues::number;
@@ -698,7 +698,7 @@ void Reader::for_each_table(const toml::table& root, std::string_view key, F&& f
   for (std::size_t i = 0; i < list->size(); ++i) f(*list->get(i)->as_table(), item(key, i), i);
 }
 
-Case Reader::read(toml::table& root) {
+Case Reader::read(toml::table& root, std::optional<std::int64_t> max_disks) {
   for (const auto& [key, node] : root) {
     if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key.str()) != kTopLevelKeys.end())
       continue;
@@ -716,8 +716,12 @@ Case Reader::read(toml::table& root) {
       throw InputError(source_ + ": the file name does not make a case name: " + problem +
                        " (give [case] name)");
   }
-  const MeshSettings mesh = read_mesh(root);
+  MeshSettings mesh = read_mesh(root);
+  if (max_disks) mesh.max_disks = *max_disks;  // `hexdem run --max-disks N`
   c.max_disks = mesh.max_disks;
+  // The outline readers check the limit before they validate the loops.
+  mesh.options.max_disks = mesh.max_disks;
+  mesh.options.max_disks_hint = kMaxDisksHint;
   c.disk_order = mesh.order;
   read_outline(root, mesh, c);
   read_materials(root, c);
@@ -1288,18 +1292,20 @@ std::string case_name_problem(const std::string& name) {
 }
 
 Case parse_case(std::string_view text, const std::string& source_name,
-                const std::string& base_dir, const std::vector<std::string>& overrides) {
+                const std::string& base_dir, const std::vector<std::string>& overrides,
+                std::optional<std::int64_t> max_disks) {
   toml::table root = meshing::parse_toml(text, source_name);
   for (const std::string& spec : overrides) apply_override(root, spec, source_name);
   std::string effective = effective_text(root, source_name, base_dir);
-  Case c = Reader(source_name, base_dir).read(root);
+  Case c = Reader(source_name, base_dir).read(root, max_disks);
   c.effective_toml = std::move(effective);
   return c;
 }
 
-Case read_case(const std::string& path, const std::vector<std::string>& overrides) {
+Case read_case(const std::string& path, const std::vector<std::string>& overrides,
+               std::optional<std::int64_t> max_disks) {
   return parse_case(meshing::read_text_file(path), path, std::filesystem::path(path).parent_path().string(),
-                    overrides);
+                    overrides, max_disks);
 }
 
 }  // namespace hexdem::solver

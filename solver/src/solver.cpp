@@ -26,7 +26,7 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
   go.mode = c.geometry == Geometry::Axisymmetric ? meshing::GeometryMode::Axisymmetric
                                                  : meshing::GeometryMode::Plane;
   go.max_disks = c.max_disks;
-  go.max_disks_hint = "[mesh] max_disks = N or --max-disks N";
+  go.max_disks_hint = kMaxDisksHint;
   meshing::Lattice lattice = meshing::generate_lattice(c.outline, go, report);
   meshing::apply_disk_order(lattice, c.disk_order);
   return lattice;

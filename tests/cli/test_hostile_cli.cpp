@@ -251,6 +251,47 @@ TEST(HostileCli, DiskLimitOfACase) {
   expect_input_error(run_hexdem(dir, "run " + quote(bad)), "mesh.max_disks: must lie in [1, ");
 }
 
+TEST(HostileCli, DiskLimitComesBeforeTheLoopsAreValidated) {
+  // Was: the limit of `hexdem mesh` (and of a case) was checked by the generator, after the
+  // loops' validation: 3,000 nested circles at r = 0.5 m (1.6e10 disks) took 70 s and 4.3 GB
+  // before being refused. The readers now check the caller's limit first. Two overlapping
+  // 10 m squares at r = 0.5 mm (about 9e8 disks) show the order: the size message, not the
+  // validation's, unless the limit is raised.
+  const fs::path dir = work_dir();
+  const fs::path o = write(dir, "squares.toml", R"([lattice]
+radius = 0.5e-3
+[[body]]
+name = "a"
+[[body.shape]]
+type = "rectangle"
+min = [0, 0]
+max = [10, 10]
+[[body]]
+name = "b"
+[[body.shape]]
+type = "rectangle"
+min = [5, 5]
+max = [15, 15]
+)");
+  expect_input_error(run_hexdem(dir, "mesh " + quote(o) + " -o " + quote(dir / "squares.vtu")), "limit of 100000000 ");
+  expect_input_error(run_hexdem(dir, "mesh " + quote(o) + " --max-disks 1000000 -o " + quote(dir / "squares.vtu")),
+                     "limit of 1000000 (the mesh alone would need about");
+  expect_input_error(run_hexdem(dir, "mesh " + quote(o) + " --max-disks 1000000000 -o " + quote(dir / "squares.vtu")),
+                     "overlaps");
+  EXPECT_FALSE(fs::exists(dir / "squares.vtu"));
+  // A case reading that outline: its [mesh] max_disks, or `hexdem run --max-disks`, first.
+  const fs::path c = write(dir, "squares_case.toml", "[case]\nname = \"squares\"\ngeometry = \"plane-stress\"\n"
+                                                 "[mesh]\noutline = \"squares.toml\"\n"
+                                                 "[[material]]\nid = 1\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
+                                                 "[time]\nend = 1e-6\n");
+  const Result r = run_hexdem(dir, "run " + quote(c) + " -o " + quote(dir / "out_squares"));
+  expect_input_error(r, "limit of 100000000 ");
+  EXPECT_NE(r.err.find("[mesh] max_disks = N or --max-disks N"), std::string::npos) << r.err;
+  expect_input_error(run_hexdem(dir, "run " + quote(c) + " --max-disks 1000000000 -o " + quote(dir / "out_squares")),
+                     "overlaps");
+  EXPECT_FALSE(fs::exists(dir / "out_squares"));
+}
+
 // ---- time control --------------------------------------------------------------------------
 
 TEST(HostileCli, StepCountOverflowIsRefused) {

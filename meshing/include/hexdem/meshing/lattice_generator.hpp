@@ -46,6 +46,10 @@ struct GeneratorOptions {
 /// then applies GeneratorOptions::max_disks.
 inline constexpr std::int64_t kMaxDisksCeiling = 1'000'000'000'000;
 
+/// The size limit the outline readers check before validating the loops: the caller's limit
+/// (ReadOptions::max_disks, if > 0; with its hint) or else the ceiling, whichever is smaller.
+[[nodiscard]] GeneratorOptions reader_size_limit(std::int64_t max_disks, const std::string& hint);
+
 /// Throws InputError, before anything is allocated, when a lattice index of a body would pass
 /// 2^30 or the estimated disk count (region area / hexagon area 2 sqrt(3) r^2, at least one
 /// per lattice row, summed over the bodies) exceeds options.max_disks. Bodies need a radius

@@ -2,6 +2,7 @@
 /// \file outline_toml.hpp
 /// Reads an outline from TOML (format: docs/outline-format.md).
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -19,6 +20,12 @@ struct ReadOptions {
   std::optional<Vec2> origin;       ///< lattice origin from the command line [m]
   double chord_fraction = 1e-3;     ///< max sagitta of flattened arcs / disk radius [-]
   double scale = 0.0;               ///< if > 0, metres per file unit (overrides the file's unit)
+  /// If > 0, the caller's limit on the estimated disk count (`--max-disks`, `[mesh]
+  /// max_disks`), checked with the readers' ceiling before the loops are validated, so that an
+  /// outline that the generator would refuse is refused before its arcs' chords reach CGAL;
+  /// the message names max_disks_hint as the way to raise it.
+  std::int64_t max_disks = 0;
+  std::string max_disks_hint;
 };
 
 /// Reads a TOML outline file. Throws InputError "FILE: KEY: message (value)" or

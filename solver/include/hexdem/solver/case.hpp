@@ -17,6 +17,9 @@
 
 namespace hexdem::solver {
 
+/// How a case's user raises the disk limit, in the too-many-disks message.
+inline constexpr const char* kMaxDisksHint = "[mesh] max_disks = N or --max-disks N";
+
 /// Boundary condition on a named boundary set.
 struct BoundaryCondition {
   enum class Kind {
@@ -135,7 +138,8 @@ struct Case {
   ShearModel shear_model = ShearModel::LocalStrain;
 
   meshing::Outline outline;       ///< bodies (radius, angle, origin resolved per body)
-  /// Largest estimated disk count the mesh may have ([mesh] max_disks, `--max-disks`).
+  /// Largest estimated disk count the mesh may have ([mesh] max_disks, `--max-disks`;
+  /// kMaxDisksHint in the message).
   std::int64_t max_disks = meshing::kDefaultMaxDisks;
   /// The disks' order in memory ([mesh] order): the generator's rows, or a Hilbert curve.
   meshing::DiskOrder disk_order = meshing::DiskOrder::Rows;

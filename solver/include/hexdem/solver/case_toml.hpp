@@ -5,6 +5,8 @@
 /// Every cross-reference (boundary sets, bodies, materials) is checked against the outline.
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,12 +33,14 @@ std::string case_name_problem(const std::string& name);
 /// [[initial_velocity]], its `body`), else, for tables with neither, by position from 0.
 /// VALUE is a TOML value, or else taken as a string. The checks and messages are the file's,
 /// naming the --set. The result's effective_toml is the case as run.
-Case read_case(const std::string& path, const std::vector<std::string>& overrides = {});
+/// max_disks, if given, replaces the case's [mesh] max_disks (`hexdem run --max-disks N`).
+Case read_case(const std::string& path, const std::vector<std::string>& overrides = {},
+               std::optional<std::int64_t> max_disks = std::nullopt);
 
 /// Same from text; `source_name` names it in messages and `base_dir` resolves relative paths
 /// (the outline file).
 Case parse_case(std::string_view text, const std::string& source_name, const std::string& base_dir,
-                const std::vector<std::string>& overrides = {});
+                const std::vector<std::string>& overrides = {}, std::optional<std::int64_t> max_disks = std::nullopt);
 
 
 }  // namespace hexdem::solver
