@@ -663,6 +663,8 @@ void CheckpointAccess::check_restored(const Solver& s, const Built& b, const Run
   c.range("model.mirror_plane", m.mirror.plane, 0, 1, "a flag");
   c.range("model.strain_ok", m.strain.ok, 0, 1, "a flag");
   c.range("model.hoop_cut", m.hoop.cut, 0, 1, "a flag");
+  // Every double of a row (a member added to FailedBond must be added here: the size checks it).
+  static_assert(sizeof(Model::FailedBond) == 11 * sizeof(double) + sizeof(std::int64_t));
   for (std::size_t r = 0; r < m.failed_rows.size(); ++r) {
     const Model::FailedBond& f = m.failed_rows[r];
     const std::string row = "record 'model.failed_rows' row " + std::to_string(r);

@@ -496,7 +496,8 @@ double j2_hardening_energy(const Model& m, std::size_t i) {
 
 /// 1 - D of a cracking bond's shear spring, 1 otherwise.
 inline double shear_factor(const Model& m, std::size_t b) {
-  return m.bond_crack(b) != Model::kNoCrack ? 1 - m.failed_or_none(b).damage : 1.0;
+  const Model::FailedBond& f = m.failed_or_none(b);
+  return f.crack != Model::kNoCrack ? 1 - f.damage : 1.0;
 }
 
 /// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2.
@@ -551,10 +552,9 @@ inline BondGeometry bond_geometry(double ax, double ay, const double* __restrict
 /// Energy stored in intact bond b [J]: its springs, f^2 / (2k), and for hardening springs the
 /// locked-in energy alpha^2 / (2H), H = k k_h / (k - k_h).
 double intact_bond_energy(const Model& m, std::size_t b) {
-  if (m.any_softening && m.bond_crack(b) != Model::kNoCrack) {
+  if (const Model::FailedBond& f = m.failed_or_none(b); f.crack != Model::kNoCrack) {
     // A cracking bond: (1 - D) on both springs, the normal one while open; closed, the
     // normal spring of closed_crack_stiffness.
-    const Model::FailedBond& f = m.failed_or_none(b);
     const double D = f.damage, g = 1 - D, delta = m.len_prev[b] - m.rest(b);
     const double us = m.u_s[b];
     // A shear crack: the damaged part of its shear spring is the friction of its faces,

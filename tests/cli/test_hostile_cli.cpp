@@ -255,7 +255,7 @@ TEST(HostileCli, DiskLimitComesBeforeTheLoopsAreValidated) {
   // Was: the limit of `hexdem mesh` (and of a case) was checked by the generator, after the
   // loops' validation: 3,000 nested circles at r = 0.5 m (1.6e10 disks) took 70 s and 4.3 GB
   // before being refused. The readers now check the caller's limit first. Two overlapping
-  // 10 m squares at r = 0.5 mm (about 9e8 disks) show the order: the size message, not the
+  // 10 m squares at r = 0.5 mm (about 2.3e8 disks estimated) show the order: the size message, not the
   // validation's, unless the limit is raised.
   const fs::path dir = work_dir();
   const fs::path o = write(dir, "squares.toml", R"([lattice]
