@@ -4,7 +4,8 @@
 
     /usr/bin/python3 cases/warhead/lattice_study.py HEXDEM OUT_DIR [--speeds 100 50]
         [--angles 0 10 20 30] [--radii 0.5e-3 0.35e-3] [--seeds 1] [--threads 2]
-        [--json FILE] [--reduced] [--control none|broken] [--set KEY=VALUE ...]
+        [--json FILE] [--reduced] [--control none|broken] [--perturb N] [--delta D]
+        [--set KEY=VALUE ...]
 
 Runs every member (speed x angle x radius x seed) with `hexdem run` and `--set` overrides of
 the shipped case files (case.toml at 100 m/s, case_50.toml at 50 m/s, case_25.toml at 25 m/s;
@@ -19,7 +20,12 @@ checks that each member is what its control says (no broken bond, no plastic wor
 of the disc in loose disks) and fails the member otherwise. The disc's rim is put at the first
 of 200, 200.2, ..., 201.4 mm at which `hexdem check` accepts the member, so that the clamped
 rim set selects disks of a rotated lattice (a set that selects none is refused); the rim used
-is in the JSON (`rim_mm`). Each member is analysed by
+is in the JSON (`rim_mm`). `--perturb N` runs each member 2 N + 1 times, with the warhead's
+speed times 1 + k D, k = -N..N (D = `--delta`, 1e-5 by default): a fracturing impact is
+chaotic (docs/validation.md, "Convergence in the time step"), and a member's residual velocity
+and cone are one draw of it; the study then also prints, per speed and radius, the mean and
+standard deviation at each angle and the largest deviation of the angles' means from their
+mean, to be set against the standard deviation within an angle. Each member is analysed by
 analyse.py; the study prints one row per member and, per speed and radius, the mean and the
 largest deviation from the mean of the residual velocity and the cone half-angle, and, with
 several seeds, their spread over the seeds at each angle. Exit 0 when every member ran and
@@ -74,13 +80,17 @@ def outline_for(case, overrides, work, hexdem):
     return None, why
 
 
-def run_member(args, speed, angle, radius, seed):
+def run_member(args, speed, angle, radius, seed, k=0):
     tag = "v%d_a%g_r%g_s%d" % (speed, angle, radius * 1e3, seed)
+    if args.perturb > 0:
+        tag += "_k%+d" % k
     work = os.path.join(args.out, tag)
     os.makedirs(work, exist_ok=True)
     case = os.path.join(HERE, (REDUCED if args.reduced else CASES)[speed])
     overrides = ["--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius,
                  "--set", "random.seed=%d" % seed]
+    if args.perturb > 0:
+        overrides += ["--set", "initial_velocity.warhead.velocity=[0, %.17g]" % (-speed * (1 + k * args.delta))]
     for extra in CONTROLS.get(args.control, []) + args.set:
         overrides += ["--set", extra]
     outline, rim = outline_for(case, overrides, work, args.hexdem)
@@ -111,7 +121,7 @@ def run_member(args, speed, angle, radius, seed):
         return tag, None, "not a broken disc: %.1f %% of it in loose disks (at least %.0f %%)" % (
             100 * loose, 100 * BROKEN_LOOSE)
     return tag, {
-        "speed": speed, "angle": angle, "radius": radius, "seed": seed,
+        "speed": speed, "angle": angle, "radius": radius, "seed": seed, "k": k,
         "rim_mm": rim, "outcome": r["outcome"], "residual_velocity": r["residual_velocity_m_s"],
         "max_depth_mm": 1e3 * r["max_penetration_depth_m"],
         "cone_half_angle": cone["half_angle_deg"] if cone.get("formed") else None,
@@ -129,6 +139,72 @@ def spread(values):
     return mean, max(abs(v - mean) for v in values)
 
 
+def mean_sd(values):
+    values = [v for v in values if v is not None]
+    if not values:
+        return None, None
+    mean = sum(values) / len(values)
+    sd = (sum((v - mean) ** 2 for v in values) / (len(values) - 1)) ** 0.5 if len(values) > 1 else 0.0
+    return mean, sd
+
+
+def ensemble_tables(args, members):
+    """--perturb: each angle's ensemble (mean, standard deviation) and the angles' means against
+    their mean, per speed and radius."""
+    print()
+    print("Ensembles (%d members per angle: seeds x k = -%d..%d):" % (len(args.seeds) * (2 * args.perturb + 1),
+                                                                      args.perturb, args.perturb))
+    print()
+    print("| v [m/s] | r [mm] | angle | outcomes | residual v: mean, sd [m/s] | cone: mean, sd [deg] (members with a cone) "
+          "| broken bonds: mean, sd |")
+    print("|---|---|---|---|---|---|---|")
+    out = []
+    for speed in args.speeds:
+        for radius in args.radii:
+            per_angle = []
+            for angle in args.angles:
+                g = [m for m in members if (m["speed"], m["radius"], m["angle"]) == (speed, radius, angle)]
+                if not g:
+                    continue
+                rv = mean_sd([m["residual_velocity"] for m in g])
+                cones = [m["cone_half_angle"] for m in g if m["cone_half_angle"] is not None]
+                ca = mean_sd(cones)
+                bb = mean_sd([m["broken_bonds"] for m in g])
+                outcomes = sorted(set(m["outcome"] for m in g))
+                per_angle.append({"angle": angle, "members": len(g), "outcomes": outcomes, "residual": rv,
+                                  "cone": ca, "cones": len(cones), "broken_bonds": bb})
+                print("| %d | %g | %g | %s | %+.1f, %.1f | %s | %.0f, %.0f |"
+                      % (speed, radius * 1e3, angle, ", ".join(outcomes), rv[0], rv[1],
+                         "%.1f, %.1f (%d of %d)" % (ca[0], ca[1], len(cones), len(g)) if ca[0] is not None
+                         else "no cone", bb[0], bb[1]))
+            if not per_angle:
+                continue
+            rv_means = [a["residual"][0] for a in per_angle]
+            ca_means = [a["cone"][0] for a in per_angle if a["cone"][0] is not None]
+            row = {"speed": speed, "radius": radius, "angles": per_angle,
+                   "residual_mean": sum(rv_means) / len(rv_means),
+                   "cone_mean": sum(ca_means) / len(ca_means) if ca_means else None}
+            row["residual_deviation"] = max(abs(v - row["residual_mean"]) for v in rv_means)
+            row["cone_deviation"] = max(abs(v - row["cone_mean"]) for v in ca_means) if ca_means else None
+            # Pooled standard deviation within the angles: the chaos (and disorder) of one member.
+            row["residual_sd_within"] = (sum(a["residual"][1] ** 2 for a in per_angle) / len(per_angle)) ** 0.5
+            sds = [a["cone"][1] for a in per_angle if a["cone"][0] is not None]
+            row["cone_sd_within"] = (sum(v * v for v in sds) / len(sds)) ** 0.5 if sds else None
+            out.append(row)
+    print()
+    print("| v [m/s] | r [mm] | angles' mean residual v: mean, largest deviation | sd within an angle | "
+          "angles' mean cone: mean, largest deviation | sd within an angle |")
+    print("|---|---|---|---|---|---|")
+    for row in out:
+        print("| %d | %g | %+.1f, %.1f m/s | %.1f m/s | %s | %s |"
+              % (row["speed"], row["radius"] * 1e3, row["residual_mean"], row["residual_deviation"],
+                 row["residual_sd_within"],
+                 "%.1f, %.1f deg" % (row["cone_mean"], row["cone_deviation"]) if row["cone_mean"] is not None
+                 else "no cone",
+                 "%.1f deg" % row["cone_sd_within"] if row["cone_sd_within"] is not None else "n/a"))
+    return out
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("hexdem")
@@ -139,12 +215,17 @@ def main(argv):
     parser.add_argument("--seeds", type=int, nargs="+", default=[1])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--json")
+    parser.add_argument("--perturb", type=int, default=0, metavar="N",
+                        help="run each member at the speed times 1 + k D, k = -N..N (default 0)")
+    parser.add_argument("--delta", type=float, default=1e-5, metavar="D")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="a further `hexdem run --set` override for every member (repeatable)")
     parser.add_argument("--reduced", action="store_true", help="case_ctest.toml (100 m/s only)")
     parser.add_argument("--control", choices=sorted(CONTROLS),
                         help="none: no fracture or plasticity; broken: the disc's bonds broken by the stress waves")
     args = parser.parse_args(argv)
+    if args.perturb < 0 or not args.delta > 0:
+        parser.error("--perturb must be >= 0 and --delta > 0")
     if args.reduced and args.speeds != [100]:
         parser.error("--reduced has 100 m/s only (--speeds 100)")
     # Absolute: the members' outlines are given to hexdem, which resolves a relative path
@@ -158,17 +239,18 @@ def main(argv):
     for speed in args.speeds:
         for radius in args.radii:
             for angle in args.angles:
-                for seed in args.seeds:
-                    tag, m, why = run_member(args, speed, angle, radius, seed)
+                for seed, k in [(s, k) for s in args.seeds for k in range(-args.perturb, args.perturb + 1)]:
+                    tag, m, why = run_member(args, speed, angle, radius, seed, k)
                     if m is None:
                         failed.append((tag, why))
                         print("| %s | failed: %s |" % (tag, why), flush=True)
                         continue
                     members.append(m)
                     cone = "%.1f" % m["cone_half_angle"] if m["cone_half_angle"] is not None else "no cone"
-                    print("| %d | %g | %g | %d | %s | %+.1f | %.1f | %s | %d | %.1e |"
-                          % (speed, radius * 1e3, angle, seed, m["outcome"], m["residual_velocity"],
-                             m["max_depth_mm"], cone, m["broken_bonds"], m["max_abs_error"]), flush=True)
+                    print("| %d | %g | %g | %s | %s | %+.1f | %.1f | %s | %d | %.1e |"
+                          % (speed, radius * 1e3, angle, seed if args.perturb == 0 else "%d, k %+d" % (seed, k),
+                             m["outcome"], m["residual_velocity"], m["max_depth_mm"], cone, m["broken_bonds"],
+                             m["max_abs_error"]), flush=True)
     print()
     print("| v [m/s] | r [mm] | outcomes | residual v: mean, largest deviation | "
           "cone half-angle: mean, largest deviation (angles with a cone) |")
@@ -204,10 +286,11 @@ def main(argv):
                     print("  %d m/s, r %g mm, %g deg: residual v %.1f m/s, cone %s" % (
                         speed, radius * 1e3, angle, max(rv) - min(rv),
                         "%.1f deg (%d of %d with a cone)" % (max(ca) - min(ca), len(ca), len(g)) if ca else "none"))
+    ensembles = ensemble_tables(args, members) if args.perturb > 0 else []
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"control": args.control, "members": members, "groups": groups, "failed": failed}, f,
-                      indent=1)
+            json.dump({"control": args.control, "members": members, "groups": groups, "ensembles": ensembles,
+                       "failed": failed}, f, indent=1)
     for tag, why in failed:
         sys.stderr.write("lattice_study.py: %s: %s\n" % (tag, why))
     warned = [m for m in members if m.get("run_warning")]

@@ -62,6 +62,10 @@ int run_check(const CheckArgs& a) {
               ts.user_dt ? "given" : "safety x critical", ts.dt_critical, ts.dt_bloch, ts.dt_finite, ts.dt_eq24);
   std::printf("  stability: dt / critical = %.3f%s\n", ts.dt / ts.dt_critical,
               ts.dt <= ts.dt_critical ? "" : " (ABOVE the critical step: allow_unstable)");
+  if (s.contacts_enabled() || !c.walls.empty())
+    std::printf("  contacts: omega <= %.6g 1/s (resolution %.6g / %.6g s, the default step, "
+                "whatever the step used)\n",
+                std::sqrt(m.contact_omega2), c.contact.resolution, ts.dt_contact);
   const std::size_t estimated = s.finite_estimate_disks();
   if (estimated < m.num_disks())
     std::printf("  finite model: Lanczos on the edge band, %zu of %zu disks (%d iterations)\n", estimated, m.num_disks(),

@@ -23,13 +23,20 @@ void Solver::setup_contact_resolution() {
   // order (omega dt)^2 of the contact's energy, omega = sqrt(k / m_eff). At the lattice's own
   // step a contact as stiff as a bond has omega dt of 0.6-0.9, and a run with many contacts
   // (fragments) created several % of its input energy that way (docs/model.md, "Energy at
-  // contacts"). A contact is therefore made no stiffer than its masses and the step resolve
-  // with omega dt <= [contact] resolution, 0.25 by default (about 12 steps per half period; O'Sullivan and Bray, Eng. Comput.
-  // 21 (2004) 278, recommend a fraction of the critical step for accuracy), which also
-  // keeps it inside the stability bound of the dashpot, omega dt < 2 (sqrt(1 + eta^2) - eta).
+  // contacts"). A contact is therefore made no stiffer than omega = [contact] resolution /
+  // dt_contact, 0.25 by default (about 12 steps per half period at the default step; O'Sullivan
+  // and Bray, Eng. Comput. 21 (2004) 278, recommend a fraction of the critical step for
+  // accuracy), which also keeps it inside the stability bound of the dashpot,
+  // omega dt < 2 (sqrt(1 + eta^2) - eta).
+  //
+  // dt_contact is the default step (kDefaultSafety = 0.9 x the critical step, landing on the
+  // end time: choose_time_step), not the step used: the contacts' stiffness is part of the
+  // model, and a run at a smaller [time] dt or safety (a convergence study in the step) must
+  // integrate the same contacts, not stiffer ones (docs/validation.md, "Convergence in the
+  // time step").
   const double eta = case_.contact.damping;
   const double beta = std::min(case_.contact.resolution, 0.9 * (std::sqrt(1.0 + eta * eta) - eta));
-  model_.contact_omega2 = (beta / dt_info_.dt) * (beta / dt_info_.dt);
+  model_.contact_omega2 = (beta / dt_info_.dt_contact) * (beta / dt_info_.dt_contact);
 }
 
 void Solver::setup_contacts() {

@@ -790,6 +790,10 @@ int run_case(const Case& c, const RunOptions& options) {
                 ts.dt_eq24);
     std::printf("  %lld steps to t = %.6g s, threads %d\n", static_cast<long long>(steps), c.time.end,
                 omp_get_max_threads());
+    // A step other than the default: the contacts keep the default step's stiffness cap.
+    if ((solver.contacts_enabled() || !c.walls.empty()) && std::abs(dt / ts.dt_contact - 1.0) > 1e-3)
+      std::printf("  contacts as at the default step: omega <= [contact] resolution / %.6g s (omega dt <= %.3g)\n",
+                  ts.dt_contact, c.contact.resolution * dt / ts.dt_contact);
     for (const std::string& line : solver.plasticity_report()) std::printf("  %s\n", line.c_str());
     if (restart)
       std::printf("  restart from %s at step %lld (t = %.6g s)\n", options.restart.c_str(),

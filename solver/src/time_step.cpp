@@ -401,12 +401,18 @@ void Solver::choose_time_step(double w2) {
                        fmt(info.dt_critical, 6) + " s (Bloch " + fmt(info.dt_bloch, 6) + " s, finite model " +
                        fmt(info.dt_finite, 6) + " s); lower dt, or set allow_unstable = true to study the instability");
     }
-  } else {
-    // The largest step below safety x critical that lands exactly on the end time.
-    const double target = case_.time.safety * info.dt_critical;
-    const double steps = std::ceil(case_.time.end / target - 1e-9);
-    info.dt = case_.time.end / steps;
   }
+  // The largest step below safety x critical that lands exactly on the end time (a step when
+  // the end time is shorter than one).
+  const auto landing_step = [&](double safety) {
+    const double target = safety * info.dt_critical;
+    const double steps = std::ceil(case_.time.end / target - 1e-9);
+    return steps >= 1 ? case_.time.end / steps : target;
+  };
+  if (!info.user_dt) info.dt = landing_step(case_.time.safety);
+  // The step the contacts' stiffness cap refers to: the default step whatever the step used,
+  // so that a smaller [time] dt or safety integrates the same contacts (contacts.cpp).
+  info.dt_contact = landing_step(kDefaultSafety);
   // An end time shorter than one step: no step would be taken (ceil gives 0, the chosen step
   // -inf), and the run would end at t = 0 or report a blow-up.
   if (!(case_.time.end / info.dt - 1e-9 > 0) || !std::isfinite(info.dt) || !(info.dt > 0)) {

@@ -30,6 +30,27 @@ if(NOT HEXDEM_SANITIZE)
             --json ${HEXDEM_TEST_WORK_DIR}/case_warhead_study/study.json)
   set_tests_properties(case_warhead_lattice_study_reduced PROPERTIES
     LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
+  # The chaos of a fracturing impact: lattice_study.py --perturb runs each member at the speed
+  # times 1 + k D and prints each angle's ensemble and the angles' means against the spread
+  # within an angle; step_study.py runs ensembles at several steps (docs/validation.md,
+  # "Convergence in the time step"). Both on the reduced case, 3 members per group: every
+  # member must run, be analysed and be counted in its group's line.
+  add_test(NAME case_warhead_lattice_ensemble_reduced
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/lattice_study.py
+            $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_ensemble --reduced --speeds 100
+            --angles 0 30 --radii 1e-3 --threads 1 --perturb 1 --delta 1e-4)
+  set_tests_properties(case_warhead_lattice_ensemble_reduced PROPERTIES
+    LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}"
+    PASS_REGULAR_EXPRESSION "\\| 100 \\| 1 \\| [+-][0-9.]+, [0-9.]+ m/s \\| [0-9.]+ m/s \\|"
+    FAIL_REGULAR_EXPRESSION "failed:|Traceback")
+  add_test(NAME case_warhead_step_study_reduced
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/cases/warhead/step_study.py
+            $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_step_study
+            --case ${PROJECT_SOURCE_DIR}/cases/warhead/case_ctest.toml --factors 0.5 1 --perturb 1 --threads 1)
+  set_tests_properties(case_warhead_step_study_reduced PROPERTIES
+    LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}"
+    PASS_REGULAR_EXPRESSION "\\| 0.5 \\| [0-9.e-]+ \\| 3 \\| [a-z, ]+ \\| [0-9]+, [0-9]+ \\|"
+    FAIL_REGULAR_EXPRESSION "failed:|Traceback")
   # analyse.py's cone fit on synthetic discs (tests/cases/test_warhead_cone_fit.py): a cone at
   # 40 degrees is fitted within 0.5 degree, and a disc whose own fragment has come apart (a target
   # whose bonds all broke) gives "no cone" with its reason instead of failing the analysis.

@@ -146,8 +146,8 @@ TEST(BreakEnergy, ADiskThatLosesItsFitKeepsItsStrainAndEachBreakReleasesItsBonds
 
 // The issue's reproducer, a steel disk at 50 m/s on a concrete plate with strengths, at
 // r = 1 mm: the integrator's share of the breaks halves with the step while the fracture
-// energy stays. The contact resolution is scaled with the step so that the contacts keep
-// their stiffness (the cap is m_eff (resolution / dt)^2).
+// energy stays. The contacts keep their stiffness at both steps: the cap is
+// m_eff (resolution / dt_c)^2 with dt_c the default step.
 struct ImpactResult {
   double fracture = 0, break_kinetic = 0, max_error = 0, min_bond = 0;
 };
@@ -203,8 +203,9 @@ velocity = [0.0, -50.0]
 [contact]
 damping = 0.5
 )";
-  text += "resolution = " + std::to_string(0.2 * safety / 0.8) + "\n[time]\nend = 80e-6\nsafety = " +
-          std::to_string(safety) + "\n";
+  // 0.225 / dt_c, dt_c = 0.9 x critical, is the cap 0.2 / dt at safety 0.8: the contacts'
+  // stiffness refers to the default step whatever the step used.
+  text += "resolution = 0.225\n[time]\nend = 80e-6\nsafety = " + std::to_string(safety) + "\n";
   const Case c = parse_case(text, "impact.toml", ".");
   Solver s(c, mesh_case(c));
   ImpactResult r;
@@ -219,19 +220,31 @@ damping = 0.5
 }
 
 TEST(BreakEnergy, TheIntegratorsShareOfBreaksIsFirstOrderInTheStep) {
+  // Which bond breaks first can change with the step, and with it the later cracks: over
+  // safety 0.1-0.8 the softening plate's fracture energy scatters by +-15 % around 0.116 J with
+  // no trend (docs/validation.md, "Convergence in the time step"). The fracture energy is
+  // therefore compared as the mean over four coarse steps against the mean over four fine
+  // ones; the integrator's share of the breaks (break_kinetic) is first order in the step on
+  // every run and is compared run against run.
+  const double coarse_safety[] = {0.8, 0.7, 0.6, 0.5}, fine_safety[] = {0.4, 0.35, 0.3, 0.25};
   for (bool softening : {false, true}) {
-    const ImpactResult coarse = impact(0.8, softening), fine = impact(0.4, softening);
-    std::printf("%s: fracture %.4e / %.4e J, break_kinetic %+.3e / %+.3e J, max |Err| %.2e / %.2e (safety 0.8 / 0.4)\n",
-                softening ? "softening" : "brittle", coarse.fracture, fine.fracture, coarse.break_kinetic,
-                fine.break_kinetic, coarse.max_error, fine.max_error);
-    ASSERT_GT(coarse.fracture, 0.0);
-    EXPECT_GE(coarse.min_bond, 0.0);
-    EXPECT_GE(fine.min_bond, 0.0);
-    EXPECT_NEAR(fine.fracture, coarse.fracture, 0.1 * coarse.fracture) << "the fracture energy converges";
-    const double ratio = fine.break_kinetic / coarse.break_kinetic;
-    EXPECT_GT(ratio, 0.3) << "first order: about 1/2";
-    EXPECT_LT(ratio, 0.7) << "first order: about 1/2";
-    EXPECT_LT(std::abs(fine.break_kinetic), 0.05 * fine.fracture);
+    double coarse_mean = 0, fine_mean = 0;
+    for (int k = 0; k < 4; ++k) {
+      const ImpactResult coarse = impact(coarse_safety[k], softening), fine = impact(fine_safety[k], softening);
+      std::printf("%s: fracture %.4e / %.4e J, break_kinetic %+.3e / %+.3e J, max |Err| %.2e / %.2e (safety %.2f / %.2f)\n",
+                  softening ? "softening" : "brittle", coarse.fracture, fine.fracture, coarse.break_kinetic,
+                  fine.break_kinetic, coarse.max_error, fine.max_error, coarse_safety[k], fine_safety[k]);
+      ASSERT_GT(coarse.fracture, 0.0);
+      EXPECT_GE(coarse.min_bond, 0.0);
+      EXPECT_GE(fine.min_bond, 0.0);
+      const double ratio = fine.break_kinetic / coarse.break_kinetic;
+      EXPECT_GT(ratio, 0.3) << "first order: about 1/2";
+      EXPECT_LT(ratio, 0.7) << "first order: about 1/2";
+      EXPECT_LT(std::abs(fine.break_kinetic), 0.05 * fine.fracture);
+      coarse_mean += 0.25 * coarse.fracture;
+      fine_mean += 0.25 * fine.fracture;
+    }
+    EXPECT_NEAR(fine_mean, coarse_mean, 0.1 * coarse_mean) << "the fracture energy converges";
   }
 }
 

@@ -74,10 +74,14 @@ struct Probe {
   std::string where;
 };
 
+/// The default [time] safety. The contacts' stiffness cap refers to this fraction of the
+/// critical step whatever the step used (Solver::setup_contact_resolution).
+inline constexpr double kDefaultSafety = 0.9;
+
 struct TimeControl {
   double end = 0;                 ///< end time [s] (> 0)
   std::optional<double> dt;       ///< user time step [s]; default safety * critical step
-  double safety = 0.9;            ///< fraction of the critical step when dt is not given
+  double safety = kDefaultSafety; ///< fraction of the critical step when dt is not given
   bool allow_unstable = false;    ///< accept a dt above the critical step (stability study)
   double mass_damping = 0;        ///< alpha of Eq. 18 [1/s]
   /// Run health (docs/case-format.md): |energy error| above energy_warning warns once, above

@@ -60,7 +60,11 @@ struct EnergyBalance {
 /// How the time step was chosen.
 struct TimeStepInfo {
   double dt = 0;            ///< the step used [s]
-  double dt_critical = 0;   ///< min(dt_bloch, dt_finite) [s]
+  double dt_critical = 0;   ///< min(dt_bloch, dt_finite), with the contact dashpot's reduction [s]
+  /// The step the contacts' stiffness cap refers to [s]: the default step (kDefaultSafety x
+  /// dt_critical, landing on the end time), whatever [time] dt or safety
+  /// (Solver::setup_contact_resolution).
+  double dt_contact = 0;
   double dt_bloch = 0;      ///< smallest Bloch critical step over the bodies [s]
   double dt_finite = 0;     ///< 2/omega_max of the finite model (Lanczos) [s]
   double dt_eq24 = 0;       ///< the paper's Eq. 24, for comparison [s]
