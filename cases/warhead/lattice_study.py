@@ -37,9 +37,10 @@ ran but one completed with a warning (`hexdem run` exit code 3: its energy error
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
+
+from members import mean_sd, run_and_analyse
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 # The controls (docs/validation.md, "What the angle moves before any bond breaks, and once
@@ -96,21 +97,10 @@ def run_member(args, speed, angle, radius, seed, k=0):
     outline, rim = outline_for(case, overrides, work, args.hexdem)
     if outline is None:
         return tag, None, "hexdem check refused every rim position: %s" % rim
-    cmd = [args.hexdem, "run", case, "--out", work, "--threads", str(args.threads), "-q",
-           "--set", "mesh.outline=%s" % outline] + overrides
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode not in (0, 3):  # 3: completed with a warning (analysed, and reported)
-        return tag, None, "hexdem run exit %d: %s" % (p.returncode, p.stderr.strip().splitlines()[-1:])
-    pvd = [f for f in os.listdir(work) if f.endswith(".pvd")]
-    if len(pvd) != 1:
-        return tag, None, "no single .pvd in %s" % work
-    summary = os.path.join(work, "summary.json")
-    a = subprocess.run([sys.executable, os.path.join(HERE, "analyse.py"), os.path.join(work, pvd[0]),
-                        "--json", summary], capture_output=True, text=True)
-    if a.returncode != 0:
-        return tag, None, "analyse.py exit %d: %s" % (a.returncode, a.stderr.strip())
-    with open(summary) as f:
-        r = json.load(f)["runs"][0]
+    r, _, why = run_and_analyse(args.hexdem, case, work, args.threads,
+                                ["--set", "mesh.outline=%s" % outline] + overrides)
+    if r is None:
+        return tag, None, why
     cone = r["cone"]
     loose = r["pulverised"]["fraction_of_target"]
     plastic = r["energy"]["final"].get("plastic", 0.0)
@@ -137,15 +127,6 @@ def spread(values):
         return None, None
     mean = sum(values) / len(values)
     return mean, max(abs(v - mean) for v in values)
-
-
-def mean_sd(values):
-    values = [v for v in values if v is not None]
-    if not values:
-        return None, None
-    mean = sum(values) / len(values)
-    sd = (sum((v - mean) ** 2 for v in values) / (len(values) - 1)) ** 0.5 if len(values) > 1 else 0.0
-    return mean, sd
 
 
 def ensemble_tables(args, members):

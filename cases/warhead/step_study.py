@@ -24,11 +24,12 @@ warning (`hexdem run` exit code 3).
 
 import argparse
 import json
-import math
 import os
 import re
 import subprocess
 import sys
+
+from members import mean_sd, run_and_analyse
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -59,37 +60,17 @@ def run_member(args, dt0, v0, factor, k):
         overrides += ["--set", "time.dt=%.17g" % (factor * dt0), "--set", "time.allow_unstable=true"]
     for extra in args.set:
         overrides += ["--set", extra]
-    cmd = [args.hexdem, "run", args.case, "--out", work, "--threads", str(args.threads), "-q"] + overrides
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode not in (0, 3):
-        return tag, None, "hexdem run exit %d: %s" % (p.returncode, p.stderr.strip().splitlines()[-1:])
-    pvd = [f for f in os.listdir(work) if f.endswith(".pvd")]
-    if len(pvd) != 1:
-        return tag, None, "no single .pvd in %s" % work
-    summary = os.path.join(work, "summary.json")
-    a = subprocess.run([sys.executable, os.path.join(HERE, "analyse.py"), os.path.join(work, pvd[0]),
-                        "--json", summary], capture_output=True, text=True)
-    if a.returncode != 0:
-        return tag, None, "analyse.py exit %d: %s" % (a.returncode, a.stderr.strip())
-    with open(summary) as f:
-        r = json.load(f)["runs"][0]
+    r, warned, why = run_and_analyse(args.hexdem, args.case, work, args.threads, overrides)
+    if r is None:
+        return tag, None, why
     cone = r["cone"]
     return tag, {
         "factor": factor, "k": k, "dt": factor * dt0, "outcome": r["outcome"],
         "residual_velocity": r["residual_velocity_m_s"],
         "cone_half_angle": cone["half_angle_deg"] if cone.get("formed") else None,
         "broken_bonds": r["broken_bonds"], "fracture": r["energy"]["final"].get("fracture", 0.0),
-        "max_abs_error": r["energy"]["max_abs_relative_error"], "warned": p.returncode == 3,
+        "max_abs_error": r["energy"]["max_abs_relative_error"], "warned": warned,
     }, None
-
-
-def stats(values):
-    values = [v for v in values if v is not None]
-    if not values:
-        return None, None
-    mean = sum(values) / len(values)
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1)) if len(values) > 1 else 0.0
-    return mean, sd
 
 
 def main(argv):
@@ -143,7 +124,7 @@ def main(argv):
                "outcomes": sorted(set(m["outcome"] for m in g)),
                "worst_error": max(m["max_abs_error"] for m in g)}
         for key in ("broken_bonds", "fracture", "residual_velocity", "cone_half_angle"):
-            row[key] = stats([m[key] for m in g])
+            row[key] = mean_sd([m[key] for m in g])
         groups.append(row)
 
         def ms(pair, fmt):
