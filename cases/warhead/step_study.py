@@ -10,10 +10,12 @@ A fracturing impact is chaotic: which bond breaks first decides where the next c
 an impact speed changed by one part in 100,000 already moves the broken bonds by a few % and
 the residual velocity by metres per second. One run per step therefore cannot tell the step's
 effect from that chaos. For each step factor f (the step used is f times the case's default
-step, `hexdem check`'s "time step"; f > 1 runs with `allow_unstable`, above 0.9 x the critical
-step), the study runs 2 n + 1 members whose warhead speed is v0 (1 + k delta), k = -n..n, and
+step, `hexdem check`'s "time step", given as `[time] dt` with `allow_unstable`, so that f above
+1/0.9, beyond the critical step, can be run), the study runs 2 n + 1 members whose warhead speed is v0 (1 + k delta), k = -n..n, and
 reports the mean and standard deviation over them of the broken bonds, the fracture energy,
-the residual velocity and the cone half-angle (analyse.py). The contacts' stiffness cap is the
+the residual velocity and the cone half-angle (analyse.py). The case must be one of this
+folder's (its [[initial_velocity]] is the body "warhead"'s, overridden with `--set
+initial_velocity.warhead.velocity=...`). The contacts' stiffness cap is the
 default step's whatever the step (docs/model.md, "Energy at contacts"), so every member has the
 same model and only its integration differs. The step's effect is the difference of the means;
 the chaos is the standard deviation (divide by sqrt(2 n + 1) for the means' own uncertainty).

@@ -402,8 +402,8 @@ void Solver::choose_time_step(double w2) {
                        fmt(info.dt_finite, 6) + " s); lower dt, or set allow_unstable = true to study the instability");
     }
   }
-  // The largest step below safety x critical that lands exactly on the end time (a step when
-  // the end time is shorter than one).
+  // The largest step below safety x critical that lands exactly on the end time (the target
+  // itself for an end time too short to count one step, which the check below refuses).
   const auto landing_step = [&](double safety) {
     const double target = safety * info.dt_critical;
     const double steps = std::ceil(case_.time.end / target - 1e-9);
