@@ -51,6 +51,15 @@ if(NOT HEXDEM_SANITIZE)
     LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}"
     PASS_REGULAR_EXPRESSION "\\| 0.5 \\| [0-9.e-]+ \\| 3 \\| [a-z, ]+ \\| [0-9]+, [0-9]+ \\|"
     FAIL_REGULAR_EXPRESSION "failed:|Traceback")
+  # cases/warhead/damage_zones.py on the reduced run (tests/cases/test_warhead_damage_zones.py):
+  # its zone counts against the frame's arrays, the 0-degree lattice's two bond directions,
+  # and a folder without a series refused with exit 2.
+  add_test(NAME case_warhead_damage_zones
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/tests/cases/test_warhead_damage_zones.py
+            ${HEXDEM_TEST_WORK_DIR}/case_warhead)
+  set_tests_properties(case_warhead_damage_zones PROPERTIES
+    LABELS "validation" TIMEOUT 60 FIXTURES_REQUIRED case_warhead_reduced
+    ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
   # analyse.py's cone fit on synthetic discs (tests/cases/test_warhead_cone_fit.py): a cone at
   # 40 degrees is fitted within 0.5 degree, and a disc whose own fragment has come apart (a target
   # whose bonds all broke) gives "no cone" with its reason instead of failing the analysis.
