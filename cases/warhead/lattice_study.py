@@ -24,8 +24,9 @@ is in the JSON (`rim_mm`). `--perturb N` runs each member 2 N + 1 times, with th
 speed times 1 + k D, k = -N..N (D = `--delta`, 1e-5 by default): a fracturing impact is
 chaotic (docs/validation.md, "Convergence in the time step"), and a member's residual velocity
 and cone are one draw of it; the study then also prints, per speed and radius, the mean and
-standard deviation at each angle and the largest deviation of the angles' means from their
-mean, to be set against the standard deviation within an angle. Each member is analysed by
+standard deviation at each angle (residual velocity, cone, broken bonds and the booked fracture
+energy) and the largest deviation of the angles' means from their mean, to be set against the
+standard deviation within an angle. Each member is analysed by
 analyse.py; the study prints one row per member and, per speed and radius, the mean and the
 largest deviation from the mean of the residual velocity and the cone half-angle, and, with
 several seeds, their spread over the seeds at each angle. Exit 0 when every member ran and
@@ -116,6 +117,7 @@ def run_member(args, speed, angle, radius, seed, k=0):
         "max_depth_mm": 1e3 * r["max_penetration_depth_m"],
         "cone_half_angle": cone["half_angle_deg"] if cone.get("formed") else None,
         "broken_bonds": r["broken_bonds"], "loose_fraction": loose,
+        "fracture_J_per_rad": r["energy"]["final"].get("fracture", 0.0),
         "max_abs_error": r["energy"]["max_abs_relative_error"],
         "run_warning": r.get("run_warning"),
     }, None
@@ -137,8 +139,8 @@ def ensemble_tables(args, members):
                                                                       args.perturb, args.perturb))
     print()
     print("| v [m/s] | r [mm] | angle | outcomes | residual v: mean, sd [m/s] | cone: mean, sd [deg] (members with a cone) "
-          "| broken bonds: mean, sd |")
-    print("|---|---|---|---|---|---|---|")
+          "| broken bonds: mean, sd | fracture energy: mean, sd [J/rad] |")
+    print("|---|---|---|---|---|---|---|---|")
     out = []
     for speed in args.speeds:
         for radius in args.radii:
@@ -151,13 +153,14 @@ def ensemble_tables(args, members):
                 cones = [m["cone_half_angle"] for m in g if m["cone_half_angle"] is not None]
                 ca = mean_sd(cones)
                 bb = mean_sd([m["broken_bonds"] for m in g])
+                fe = mean_sd([m["fracture_J_per_rad"] for m in g])
                 outcomes = sorted(set(m["outcome"] for m in g))
                 per_angle.append({"angle": angle, "members": len(g), "outcomes": outcomes, "residual": rv,
-                                  "cone": ca, "cones": len(cones), "broken_bonds": bb})
-                print("| %d | %g | %g | %s | %+.1f, %.1f | %s | %.0f, %.0f |"
+                                  "cone": ca, "cones": len(cones), "broken_bonds": bb, "fracture": fe})
+                print("| %d | %g | %g | %s | %+.1f, %.1f | %s | %.0f, %.0f | %.3f, %.3f |"
                       % (speed, radius * 1e3, angle, ", ".join(outcomes), rv[0], rv[1],
                          "%.1f, %.1f (%d of %d)" % (ca[0], ca[1], len(cones), len(g)) if ca[0] is not None
-                         else "no cone", bb[0], bb[1]))
+                         else "no cone", bb[0], bb[1], fe[0], fe[1]))
             if not per_angle:
                 continue
             rv_means = [a["residual"][0] for a in per_angle]
@@ -171,18 +174,29 @@ def ensemble_tables(args, members):
             row["residual_sd_within"] = (sum(a["residual"][1] ** 2 for a in per_angle) / len(per_angle)) ** 0.5
             sds = [a["cone"][1] for a in per_angle if a["cone"][0] is not None]
             row["cone_sd_within"] = (sum(v * v for v in sds) / len(sds)) ** 0.5 if sds else None
+            # The booked fracture energy: the angles' means, their largest deviation from their
+            # mean relative to it, and the spread within an angle (docs/validation.md, "Where
+            # the lattice angle's damage is").
+            fe_means = [a["fracture"][0] for a in per_angle]
+            row["fracture_mean"] = sum(fe_means) / len(fe_means)
+            row["fracture_deviation"] = max(abs(v - row["fracture_mean"]) for v in fe_means)
+            row["fracture_sd_within"] = (sum(a["fracture"][1] ** 2 for a in per_angle) / len(per_angle)) ** 0.5
             out.append(row)
     print()
     print("| v [m/s] | r [mm] | angles' mean residual v: mean, largest deviation | sd within an angle | "
-          "angles' mean cone: mean, largest deviation | sd within an angle |")
-    print("|---|---|---|---|---|---|")
+          "angles' mean cone: mean, largest deviation | sd within an angle | "
+          "angles' mean fracture energy: mean, largest deviation | sd within an angle |")
+    print("|---|---|---|---|---|---|---|---|")
     for row in out:
-        print("| %d | %g | %+.1f, %.1f m/s | %.1f m/s | %s | %s |"
+        print("| %d | %g | %+.1f, %.1f m/s | %.1f m/s | %s | %s | %.3f, %.3f J/rad (%.0f %%) | %.3f J/rad |"
               % (row["speed"], row["radius"] * 1e3, row["residual_mean"], row["residual_deviation"],
                  row["residual_sd_within"],
                  "%.1f, %.1f deg" % (row["cone_mean"], row["cone_deviation"]) if row["cone_mean"] is not None
                  else "no cone",
-                 "%.1f deg" % row["cone_sd_within"] if row["cone_sd_within"] is not None else "n/a"))
+                 "%.1f deg" % row["cone_sd_within"] if row["cone_sd_within"] is not None else "n/a",
+                 row["fracture_mean"], row["fracture_deviation"],
+                 100 * row["fracture_deviation"] / row["fracture_mean"] if row["fracture_mean"] > 0 else 0.0,
+                 row["fracture_sd_within"]))
     return out
 
 
