@@ -35,8 +35,11 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+import analyse  # noqa: E402
 from analyse import DISC_THICKNESS, RIM_ZONE, arrays, body_index, fail, read_csv, read_frame, read_pvd  # noqa: E402
 from members import mean_sd  # noqa: E402
+
+analyse.SCRIPT = "damage_zones.py"  # analyse.fail's messages name this tool
 
 BACK_ZONE = 0.012  # m: the back zone's depth, from the back face
 BROKEN_TENSION, BROKEN_SHEAR, BROKEN_COMPRESSION = 2, 3, 4  # BondState (solver/include/hexdem/solver/model.hpp)

@@ -12,7 +12,8 @@ after case_warhead_reduced_run).
    (3, 4), below and above 12 mm from the back face, leaving out the clamped rim.
 3. The run breaks bonds under the nose (more than 100, as its analysis checks) and has cracking
    bonds: the figures the docs quote are not empty.
-4. A folder without a series is refused with exit 2 and a one-line message.
+4. A folder without a series is refused with exit 2 and a one-line message that names the
+   tool and the folder.
 Exit 0 when all hold, 1 otherwise (one line per failure).
 """
 import os
@@ -62,7 +63,8 @@ if row["cracking"] <= 0 or not np.isfinite(row["cracking_r95_mm"]):
 empty = os.path.join(os.path.dirname(os.path.abspath(run)), "damage_zones_empty")
 os.makedirs(empty, exist_ok=True)
 p = subprocess.run([sys.executable, os.path.join(WARHEAD, "damage_zones.py"), empty], capture_output=True, text=True)
-if p.returncode != 2 or len(p.stderr.strip().splitlines()) != 1 or empty not in p.stderr:
+if (p.returncode != 2 or len(p.stderr.strip().splitlines()) != 1 or empty not in p.stderr
+        or not p.stderr.startswith("damage_zones.py: ")):
     failures.append("a folder without a series: exit %d, stderr %r" % (p.returncode, p.stderr))
 
 for f in failures:
