@@ -26,7 +26,6 @@ Exit 0, 2 on a folder that holds no run.
 import argparse
 import glob
 import json
-import math
 import os
 import re
 import sys
