@@ -66,6 +66,38 @@ void compare(const std::string& geometry, const std::string& shear_model, bool e
 TEST(CriticalStep, EdgeBandMatchesWholeModel) { compare("plane-strain", "local-strain", true); }
 TEST(CriticalStep, EdgeModeNearTheBulkTopTakesTheWholeModel) { compare("plane-stress", "rotation", false); }
 
+/// The band is built elastic (time_step.cpp): its estimate for a plate whose bonds break and
+/// soften, or whose springs yield, equals the whole model's, whose probe runs the laws'
+/// kernels, and the elastic plate's. The laws' kernels at rest are the same linear operator.
+void compare_laws(const std::string& shear_model, const std::string& name, const std::string& keys) {
+  const std::string elastic = plate_case("plane-strain", shear_model);
+  std::string laws = elastic;
+  laws.replace(laws.find("nu = 0.2\n"), 9, "nu = 0.2\n" + keys);
+  const Case ce = parse_case(elastic, "elastic.toml", HEXDEM_SOURCE_DIR);
+  const Case cl = parse_case(laws, "laws.toml", HEXDEM_SOURCE_DIR);
+  Solver se(ce, mesh_case(ce));
+  Solver sl(cl, mesh_case(cl));
+  ASSERT_FALSE(sl.model().elastic_lattice()) << "the plate has laws";
+  const auto band_elastic = se.band_omega2_max(16, 3);
+  const auto band_laws = sl.band_omega2_max(16, 3);
+  ASSERT_TRUE(band_elastic.has_value() && band_laws.has_value());
+  const double whole_laws = sl.finite_omega2_max();
+  std::printf("%s with %s: band %.12g, elastic plate's band %.12g, whole model with its laws %.12g (%.2e)\n",
+              shear_model.c_str(), name.c_str(), *band_laws, *band_elastic, whole_laws, *band_laws / whole_laws - 1);
+  EXPECT_NEAR(*band_laws / *band_elastic, 1.0, 1e-12) << "the band of a plate with laws is the elastic plate's";
+  EXPECT_NEAR(*band_laws / whole_laws, 1.0, 1e-6) << "the laws' kernels at rest are the elastic operator";
+  EXPECT_EQ(sl.dt(), se.dt());
+}
+
+TEST(CriticalStep, EdgeBandOfBreakableOrYieldingBondsIsTheElasticOperator) {
+  const std::string softening =
+      "tensile_strength = 3e6\ncompressive_strength = 30e6\ncohesion = 6e6\nfriction_angle = 30\n"
+      "fracture_energy = 100\n";
+  compare_laws("local-strain", "softening", softening);
+  compare_laws("rotation", "softening", softening);
+  compare_laws("rotation", "spring plasticity", "yield_stress = 20e6\ntangent_modulus = 3e9\nplasticity = \"spring\"\n");
+}
+
 TEST(CriticalStep, NoBandForAxisymmetricOrSmallModels) {
   // An axisymmetric model's rings differ from disk to disk: the whole model is estimated.
   std::string axi = plate_case("axisymmetric", "local-strain");
