@@ -481,7 +481,7 @@ constexpr std::array<Key<ContactControl>, 2> kContactKeys{{
      }},
 }};
 
-constexpr std::array<Key<RandomField>, 3> kRandomKeys{{
+constexpr std::array<Key<RandomField>, 4> kRandomKeys{{
     {"seed", true,
      [](const auto& in, const auto& v, const auto& p, auto& r) { r.seed = in.integer(v, p, 0, INT64_MAX); }},
     {"correlation_length", true,
@@ -490,6 +490,12 @@ constexpr std::array<Key<RandomField>, 3> kRandomKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& r) {
        r.strength_cov = in.non_negative(v, p);
        if (!(r.strength_cov <= 1.0)) in.fail(v, p, "must lie in [0, 1] (coefficient of variation, got " + describe(v) + ")");
+     }},
+    {"stiffness_cov", false,
+     [](const auto& in, const auto& v, const auto& p, auto& r) {
+       r.stiffness_cov = in.non_negative(v, p);
+       if (!(r.stiffness_cov <= 1.0))
+         in.fail(v, p, "must lie in [0, 1] (coefficient of variation, got " + describe(v) + ")");
      }},
 }};
 

@@ -136,6 +136,7 @@ void visit_model(M& m, V& v) {
   v.state("hoop_fracture", m.hoop_cracks.fracture);
   v.state("hoop_break_kinetic", m.hoop_cracks.break_kinetic);
   v.state("strength_scale", m.strength_scale); v.state("disk_strength_scale", m.disk_strength_scale);
+  v.state("stiffness_scale", m.stiffness_scale);
   v.rebuilt("fx_intact", m.fx_intact);  // work space of settle_broken_bonds
   v.rebuilt("fy_intact", m.fy_intact);
   v.rebuilt("torque_intact", m.torque_intact);

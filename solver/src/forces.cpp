@@ -818,10 +818,13 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const bool axisym = m.geometry == Geometry::Axisymmetric;
   const std::vector<double>& gtt = nonlocal ? m.nonlocal.eps_tt : m.strain.eps_tt;  // hoop_strain, of this pass
   const double ett = axisym ? wi * gtt[i] + wj * gtt[j] : 0.0;
-  const double iso = sp.lambda2 * tr + sp.lambda3 * ett;
-  const double sxx = iso + 2 * sp.mu * exx, syy = iso + 2 * sp.mu * eyy, sxy = 2 * sp.mu * exy;
+  // The material's stress times the bond's stiffness factor ([random] stiffness_cov; docs/model.md,
+  // "Random stiffness"): a stiffer bond carries more stress at the same strain.
+  const double fs = m.stiffness_factor(b), lambda2 = fs * sp.lambda2, lambda3 = fs * sp.lambda3, mu = fs * sp.mu;
+  const double iso = lambda2 * tr + lambda3 * ett;
+  const double sxx = iso + 2 * mu * exx, syy = iso + 2 * mu * eyy, sxy = 2 * mu * exy;
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
-  const double s3 = m.geometry == Geometry::PlaneStress ? 0.0 : sp.lambda3 * (tr + ett) + 2 * sp.mu * ett;
+  const double s3 = m.geometry == Geometry::PlaneStress ? 0.0 : lambda3 * (tr + ett) + 2 * mu * ett;
   if (!laws::near_a_criterion(sxx, syy, sxy, s3, delta > 0 ? law.f_t * scale : kNoTension, sp.mc, scale)) return;
   const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
   if (delta > 0 && p.s1 > law.f_t * scale) {

@@ -16,7 +16,8 @@ namespace {
 
 /// Per body where `use(body)`, the reciprocals of its smallest static thresholds: the strengths
 /// of its softening law times the smallest random-field factor of its bonds (the rate factors
-/// only raise them). 0 where a threshold is not positive or the body is not used: such a
+/// only raise them), divided by the bond's stiffness factor (the criteria see the material's
+/// stress times it: softening_bond). 0 where a threshold is not positive or the body is not used: such a
 /// body's disks are always near a criterion.
 template <class Use>
 void criterion_thresholds(const Model& m, Use&& use, std::vector<double>& inv_ft, std::vector<double>& inv_fc,
@@ -25,7 +26,7 @@ void criterion_thresholds(const Model& m, Use&& use, std::vector<double>& inv_ft
   std::vector<double> scale_min(bodies, std::numeric_limits<double>::infinity());
   for (std::size_t b = 0; b < m.num_bonds(); ++b) {
     const auto body = static_cast<std::size_t>(m.body[static_cast<std::size_t>(m.bi[b])]);
-    scale_min[body] = std::min(scale_min[body], m.strength_factor(b));
+    scale_min[body] = std::min(scale_min[body], m.strength_factor(b) / m.stiffness_factor(b));
   }
   inv_ft.assign(bodies, 0.0);
   inv_fc.assign(bodies, 0.0);

@@ -788,6 +788,9 @@ int run_case(const Case& c, const RunOptions& options) {
     std::printf("  time step %.6g s (%s; critical %.6g s: Bloch %.6g s, finite model %.6g s; Eq. 24 %.6g s)\n",
                 dt, ts.user_dt ? "given" : "safety x critical", ts.dt_critical, ts.dt_bloch, ts.dt_finite,
                 ts.dt_eq24);
+    if (ts.stiffness_max > 1)
+      std::printf("  random stiffness: largest factor %.6g, the critical step is the uniform model's / %.6g\n",
+                  ts.stiffness_max, std::sqrt(ts.stiffness_max));
     std::printf("  %lld steps to t = %.6g s, threads %d\n", static_cast<long long>(steps), c.time.end,
                 omp_get_max_threads());
     // A step other than the default: the contacts keep the default step's stiffness cap.

@@ -23,9 +23,11 @@ struct SplitMix64 {
 }  // namespace
 
 std::vector<double> lognormal_field(const std::vector<double>& x, const std::vector<double>& y, std::int64_t seed,
-                                    double correlation_length, double cov) {
+                                    double correlation_length, double cov, std::uint64_t stream) {
   constexpr double kTwoPi = 6.283185307179586477;
-  SplitMix64 rng{static_cast<std::uint64_t>(seed) * 0x2545F4914F6CDD1Dull + 1};
+  // Stream 0 starts where the strength field always has (its fields are unchanged); another
+  // stream's generator starts 2^64 / golden ratio states further per stream.
+  SplitMix64 rng{static_cast<std::uint64_t>(seed) * 0x2545F4914F6CDD1Dull + 1 + stream * 0x9E3779B97F4A7C15ull};
   std::array<double, kRandomFieldModes> kx{}, ky{}, phase{};
   for (int n = 0; n < kRandomFieldModes; ++n) {
     // Box-Muller: two standard normals for the wave vector, then a uniform phase.

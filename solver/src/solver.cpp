@@ -66,6 +66,19 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
     model_.strength_scale = lognormal_field(mx, my, r.seed, r.correlation_length, r.strength_cov);
     if (!model_.hoop_cracks.damage.empty())
       model_.disk_strength_scale = lognormal_field(model_.x0, model_.y0, r.seed, r.correlation_length, r.strength_cov);
+    // The stiffness field's factors (the second stream): the criteria's thresholds read them
+    // next; the springs take them after the critical step's estimate (apply_random_stiffness).
+    if (r.stiffness_cov > 0) {
+      for (std::size_t k = 0; k < body_materials_.size(); ++k)
+        if (body_materials_[k].material->breakable && body_materials_[k].j2)
+          throw InputError(case_.source + ": [random] stiffness_cov = " + fmt(r.stiffness_cov, 6) + ": body '" +
+                           case_.outline.bodies[k].name + "' has per-disk plasticity (material '" +
+                           body_materials_[k].material->name +
+                           "'), whose stress is the material's: the stiffness field scales springs only");
+      model_.stiffness_scale = lognormal_field(mx, my, r.seed, r.correlation_length, r.stiffness_cov, 1);
+      for (std::size_t b = 0; b < model_.num_bonds(); ++b)
+        if (model_.bond_failure_law(b) < 0) model_.stiffness_scale[b] = 1.0;  // an unbreakable body: uniform
+    }
   }
   // After the random field: the nonlocal and local bounds read the smallest strength factor.
   setup_nonlocal_strain();
@@ -80,6 +93,7 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   // On the model at rest (the estimate saves no state), before the contacts' structures
   // exist, so that its transient model does not add to theirs in the peak memory.
   const double finite_omega2 = finite_estimate();
+  apply_random_stiffness();  // after the estimate, which is the uniform model's
   lap(setup_times_.time_step);
   setup_contacts();
   lap(setup_times_.contacts);
@@ -88,6 +102,49 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
   setup_contact_resolution();
   setup_energy_scale();
   lap(setup_times_.energy_scale);
+}
+
+void Solver::apply_random_stiffness() {
+  Model& m = model_;
+  if (m.stiffness_scale.empty()) return;
+  const std::size_t nb = m.num_bonds();
+  if (m.k_n.empty()) {
+    // Per-kind stiffnesses become per-bond ones (the kernels read whichever form exists).
+    m.k_n.resize(nb);
+    m.k_s.resize(nb);
+    for (std::size_t b = 0; b < nb; ++b) {
+      m.k_n[b] = m.kind_k_n[m.spring_kind[b]];
+      m.k_s[b] = m.kind_k_s[m.spring_kind[b]];
+    }
+    std::vector<double>().swap(m.kind_k_n);
+    std::vector<double>().swap(m.kind_k_s);
+  }
+  double f_max = 1.0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const double f = m.stiffness_scale[b];
+    f_max = std::max(f_max, f);
+    m.k_n[b] *= f;
+    m.k_s[b] *= f;
+    if (!m.bond_plastic.kh_n.empty()) {
+      m.bond_plastic.kh_n[b] *= f;
+      m.bond_plastic.kh_s[b] *= f;
+    }
+  }
+  if (m.geometry == Geometry::Axisymmetric && !m.hoop.lambda.empty()) {
+    // The hoop term of a breakable body's disk: the field at the disk.
+    const RandomField& r = *case_.random;
+    const std::vector<double> disk = lognormal_field(m.x0, m.y0, r.seed, r.correlation_length, r.stiffness_cov, 1);
+    for (std::size_t i = 0; i < m.num_disks(); ++i) {
+      if (m.body_failure_law[static_cast<std::size_t>(m.body[i])] < 0) continue;
+      m.hoop.lambda[i] *= disk[i];
+      m.hoop.mu[i] *= disk[i];
+      f_max = std::max(f_max, disk[i]);
+    }
+  }
+  // Each bond's and each ring's term of the stiffness matrix is positive semi-definite and
+  // multiplied by at most f_max: K' <= f_max K, so omega'^2_max <= f_max omega^2_max, and the
+  // uniform model's critical step divided by sqrt(f_max) is safe (choose_time_step).
+  dt_info_.stiffness_max = f_max;
 }
 
 void Solver::setup_nonlocal_strain() {

@@ -399,7 +399,8 @@ void Solver::choose_time_step(double w2) {
     throw InputError(case_.source + ": the finite model's critical time step is " + fmt(info.dt_finite, 6) +
                      " s, not a positive number (case.thickness = " + fmt(case_.thickness, 6) +
                      " m); check the thickness and the materials' units");
-  info.dt_critical = std::min(info.dt_bloch, info.dt_finite);
+  // A random stiffness field (apply_random_stiffness): the uniform model's step / sqrt(f_max).
+  info.dt_critical = std::min(info.dt_bloch, info.dt_finite) / std::sqrt(info.stiffness_max);
   // A contact dashpot at a fraction eta of critical damping makes central differences stable
   // only for omega dt < 2 (sqrt(1 + eta^2) - eta) (docs/laws.md): broken bonds become such
   // contacts with the bonds' stiffness.

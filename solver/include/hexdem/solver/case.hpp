@@ -127,11 +127,14 @@ struct ContactControl {
 /// Spatially correlated random strength (docs/model.md, "Random strength"): every strength of
 /// a breakable bond and a ring's hoop strength are multiplied by a lognormal field of mean 1,
 /// coefficient of variation strength_cov and Gaussian correlation exp(-d^2 / (2 l^2)), drawn
-/// from `seed`; the field is a property of the material's space, not of the lattice.
+/// from `seed`; the field is a property of the material's space, not of the lattice. With
+/// stiffness_cov > 0 the springs of those bonds (and a ring's hoop term) are multiplied by a
+/// second, independent field of the same kind (docs/model.md, "Random stiffness").
 struct RandomField {
   std::int64_t seed = 0;
   double correlation_length = 0;  ///< l [m]
   double strength_cov = 0.1;      ///< [-]
+  double stiffness_cov = 0;       ///< [-]; 0: uniform stiffness
 };
 
 struct Case {

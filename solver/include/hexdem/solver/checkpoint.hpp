@@ -40,8 +40,8 @@ namespace hexdem::solver {
 /// 10: an elastic lattice keeps each bond's pair force, not f_n, nx and ny. 11: the lattice
 /// hash and the checksum take 8 bytes at a time.
 /// 12: a softening bond's crack state (damage, kappa, delta0, delta_f and its kind) in its
-/// failed bond's row, not per bond.
-inline constexpr std::uint32_t kCheckpointVersion = 12;
+/// failed bond's row, not per bond. 13: the random stiffness field's factor per bond.
+inline constexpr std::uint32_t kCheckpointVersion = 13;
 
 /// The run loop's own state (`hexdem run`), stored with the solver's.
 struct RunState {

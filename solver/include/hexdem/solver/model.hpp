@@ -373,6 +373,11 @@ struct Model {
   /// Spatially random strength ([random]): factor on every strength of a bond / a disk's
   /// hoop strength; empty: 1.
   std::vector<double> strength_scale, disk_strength_scale;
+  /// Spatially random stiffness ([random] stiffness_cov): the factor by which a bond's
+  /// springs (k_n, k_s and hardening springs) were multiplied at set-up, read by the
+  /// softening criteria, which see the stress of the bond's stiffness (docs/model.md, "Random
+  /// stiffness"); empty: 1. The hoop term's factor is in OutOfPlane::lambda, mu.
+  std::vector<double> stiffness_scale;
   /// Forces of the pass before settle_broken_bonds broke bonds [N, N m]: the break's
   /// kinetic-energy term compares them with the forces after it (allocated if any_breakable).
   std::vector<double> fx_intact, fy_intact, torque_intact;
@@ -472,6 +477,7 @@ struct Model {
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
+  [[nodiscard]] double stiffness_factor(std::size_t b) const { return stiffness_scale.empty() ? 1.0 : stiffness_scale[b]; }
   /// Bond b has bilinear hardening springs (Eq. 16); the arrays exist only if some do.
   [[nodiscard]] bool yields(std::size_t b) const { return !bond_plastic.f_yield.empty() && bond_plastic.f_yield[b] > 0; }
   [[nodiscard]] bool on_mirror(std::size_t i) const { return !mirror.plane.empty() && mirror.plane[i] != 0; }

@@ -18,8 +18,9 @@ namespace hexdem::solver {
 /// Gaussian within the central limit for this many terms.
 constexpr int kRandomFieldModes = 256;
 
-/// Factor of the field at the points (x[k], y[k]) [m].
+/// Factor of the field at the points (x[k], y[k]) [m]. `stream` draws an independent field from
+/// the same seed (0: the strength field, 1: the stiffness field).
 std::vector<double> lognormal_field(const std::vector<double>& x, const std::vector<double>& y, std::int64_t seed,
-                                    double correlation_length, double cov);
+                                    double correlation_length, double cov, std::uint64_t stream = 0);
 
 }  // namespace hexdem::solver

@@ -69,6 +69,9 @@ struct TimeStepInfo {
   double dt_finite = 0;     ///< 2/omega_max of the finite model (Lanczos) [s]
   double dt_eq24 = 0;       ///< the paper's Eq. 24, for comparison [s]
   int finite_iterations = 0;  ///< Lanczos iterations of dt_finite
+  /// The largest factor of the random stiffness field (1 without one): dt_bloch and dt_finite
+  /// are the uniform model's, and the critical step is their minimum / sqrt(stiffness_max).
+  double stiffness_max = 1;
   bool user_dt = false;
 };
 
@@ -232,6 +235,11 @@ private:
   void refuse_unless_allowed(const std::string& message, const std::string& remedy);
   void setup_materials();
   void setup_nonlocal_strain();
+  /// [random] stiffness_cov: multiplies the springs of the breakable bodies' bonds by their
+  /// factors (Model::stiffness_scale) and their disks' hoop terms by the field at the disks;
+  /// the critical step is divided by the square root of the largest factor
+  /// (TimeStepInfo::stiffness_max).
+  void apply_random_stiffness();
   void setup_boundaries();
   void setup_mirror_springs(const BoundaryCondition& bc, int set);
   /// Throws an InputError when a part of the set (a separate edge of it) holds no disk.
