@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "common/expanding_ring.hpp"
 #include "hexdem/solver/case_toml.hpp"
-#include "hexdem/solver/random_field.hpp"
 #include "hexdem/solver/solver.hpp"
 
 namespace {
@@ -42,43 +42,6 @@ std::string bar_case(const std::string& random, double speed, double end) {
     << "[contact]\ndamping = 0.1\n[output]\nreactions = [\"grip\"]\n"
     << (random.empty() ? "" : "[random]\n" + random) << "[time]\nend = " << end << "\n";
   return s.str();
-}
-
-TEST(RandomStiffness, IsASecondLognormalFieldIndependentOfTheStrengths) {
-  // 40,000 points on a 2 m square grid, l = 0.01 m: mean 1, coefficient of variation 0.2, and
-  // no correlation with the strength field of the same seed (stream 0: unchanged).
-  const double l = 0.01;
-  std::vector<double> x, y;
-  for (int i = 0; i < 200; ++i)
-    for (int j = 0; j < 200; ++j) {
-      x.push_back(i * 0.01);
-      y.push_back(j * 0.01);
-    }
-  const std::vector<double> strength = lognormal_field(x, y, 7, l, 0.2);
-  EXPECT_EQ(strength, lognormal_field(x, y, 7, l, 0.2, 0)) << "stream 0 is the strength field";
-  const std::vector<double> stiffness = lognormal_field(x, y, 7, l, 0.2, 1);
-  const auto n = static_cast<double>(x.size());
-  const double mean = std::accumulate(stiffness.begin(), stiffness.end(), 0.0) / n;
-  double var = 0, cov = 0;
-  std::vector<double> gs(x.size()), gk(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    var += (stiffness[k] - mean) * (stiffness[k] - mean);
-    gs[k] = std::log(strength[k]);
-    gk[k] = std::log(stiffness[k]);
-  }
-  const double ms = std::accumulate(gs.begin(), gs.end(), 0.0) / n, mk = std::accumulate(gk.begin(), gk.end(), 0.0) / n;
-  double vs = 0, vk = 0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    cov += (gs[k] - ms) * (gk[k] - mk);
-    vs += (gs[k] - ms) * (gs[k] - ms);
-    vk += (gk[k] - mk) * (gk[k] - mk);
-  }
-  const double correlation = cov / std::sqrt(vs * vk);
-  std::printf("stiffness field: mean %.4f, cov %.4f; correlation of the logarithms with the strength field %+.4f\n",
-              mean, std::sqrt(var / n) / mean, correlation);
-  EXPECT_NEAR(mean, 1.0, 0.02);
-  EXPECT_NEAR(std::sqrt(var / n) / mean, 0.2, 0.03);
-  EXPECT_LT(std::abs(correlation), 0.05) << "the stiffness field is independent of the strength field";
 }
 
 TEST(RandomStiffness, ScalesEachBondsSpringsAndDividesTheStepBySqrtOfTheLargestFactor) {
@@ -193,42 +156,8 @@ TEST(RandomStiffness, IsRefusedOutsideItsRange) {
 TEST(RandomStiffness, AnExpandingRingWithStiffRingsAndSoftOnesKeepsItsEnergyBalance) {
   // The axisymmetric ring of HoopCracking (test_softening.cpp) with the stiffness field: the
   // hoop terms take the field at their disks, the rings crack radially, the energy balances.
-  const std::string text = R"(units = "mm"
-[case]
-name = "ring"
-geometry = "axisymmetric"
-[mesh]
-radius = 0.5e-3
-[[body]]
-name = "ring"
-material = 1
-  [[body.shape]]
-  type = "rectangle"
-  min = [20.0, 0.0]
-  max = [30.0, 10.0]
-[[material]]
-id = 1
-name = "concrete"
-density = 2400.0
-E = 30e9
-nu = 0.2
-tensile_strength = 3e6
-compressive_strength = 30e6
-cohesion = 8.66e6
-friction_angle = 30.0
-fracture_energy = 100.0
-rate_dependent = false
-[[initial_velocity]]
-body = "ring"
-velocity = [5.0, 0.0]
-[random]
-seed = 2
-correlation_length = 3e-3
-strength_cov = 0.1
-stiffness_cov = 0.2
-[time]
-end = 60e-6
-)";
+  const std::string text = hexdem::testing::expanding_ring_case(
+      "seed = 2\ncorrelation_length = 3e-3\nstrength_cov = 0.1\nstiffness_cov = 0.2\n");
   const Case c = parse_case(text, "ring.toml", ".");
   Solver s(c, mesh_case(c));
   const Model& m = s.model();

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/expanding_ring.hpp"
 #include "hexdem/error.hpp"
 #include "hexdem/laws/softening.hpp"
 #include "hexdem/solver/case_toml.hpp"
@@ -309,37 +310,7 @@ TEST(HoopCracking, AnExpandingRingCracksRadiallyAndKeepsItsEnergyBalance) {
   // A concrete ring (axisymmetric, r 20-30 mm, 10 mm tall) thrown outwards at 5 m/s: the hoop
   // strain u_r / r passes the tensile strength everywhere, the rings soften (radial cracks),
   // and the energy balance holds.
-  const std::string text = R"(units = "mm"
-[case]
-name = "ring"
-geometry = "axisymmetric"
-[mesh]
-radius = 0.5e-3
-[[body]]
-name = "ring"
-material = 1
-  [[body.shape]]
-  type = "rectangle"
-  min = [20.0, 0.0]
-  max = [30.0, 10.0]
-[[material]]
-id = 1
-name = "concrete"
-density = 2400.0
-E = 30e9
-nu = 0.2
-tensile_strength = 3e6
-compressive_strength = 30e6
-cohesion = 8.66e6
-friction_angle = 30.0
-fracture_energy = 100.0
-rate_dependent = false
-[[initial_velocity]]
-body = "ring"
-velocity = [5.0, 0.0]
-[time]
-end = 60e-6
-)";
+  const std::string text = hexdem::testing::expanding_ring_case();
   const Case c = parse_case(text, "ring.toml", ".");
   Solver s(c, mesh_case(c));
   double max_error = 0;
@@ -359,7 +330,7 @@ end = 60e-6
   EXPECT_LE(max_error, 0.01);
 }
 
-TEST(RandomField, IsReproducibleLognormalWithItsCorrelationLength) {
+TEST(RandomField, IsReproducibleLognormalWithItsCorrelationLengthAndASecondIndependentStream) {
   // 40,000 points on a 2 m square grid: mean 1, coefficient of variation 0.15, correlation
   // exp(-1/2) at one correlation length.
   const double l = 0.01;
@@ -393,6 +364,29 @@ TEST(RandomField, IsReproducibleLognormalWithItsCorrelationLength) {
   // A point's value does not depend on which other points are evaluated (no lattice in it).
   const std::vector<double> one = lognormal_field({x[12345]}, {y[12345]}, 7, l, 0.15);
   EXPECT_EQ(one[0], f[12345]);
+  // The stiffness field ([random] stiffness_cov): stream 1 of the same seed, stream 0 being
+  // the strength field. Its own mean and coefficient of variation, and no correlation with the
+  // strength field (docs/model.md, "Random stiffness").
+  EXPECT_EQ(f, lognormal_field(x, y, 7, l, 0.15, 0));
+  const std::vector<double> k = lognormal_field(x, y, 7, l, 0.2, 1);
+  const double k_mean = std::accumulate(k.begin(), k.end(), 0.0) / k.size();
+  double k_var = 0, cross = 0, k_log2 = 0;
+  std::vector<double> h(k.size());
+  for (std::size_t n = 0; n < k.size(); ++n) h[n] = std::log(k[n]);
+  const double hm = std::accumulate(h.begin(), h.end(), 0.0) / h.size();
+  for (std::size_t n = 0; n < k.size(); ++n) {
+    k_var += (k[n] - k_mean) * (k[n] - k_mean);
+    cross += (g[n] - gm) * (h[n] - hm);
+    k_log2 += (h[n] - hm) * (h[n] - hm);
+  }
+  double g_log2 = 0;
+  for (double v : g) g_log2 += (v - gm) * (v - gm);
+  const double correlation = cross / std::sqrt(g_log2 * k_log2);
+  std::printf("stiffness field: mean %.4f, cov %.4f; correlation of the logarithms with the strength field %+.4f\n",
+              k_mean, std::sqrt(k_var / k.size()) / k_mean, correlation);
+  EXPECT_NEAR(k_mean, 1.0, 0.02);
+  EXPECT_NEAR(std::sqrt(k_var / k.size()) / k_mean, 0.2, 0.03);
+  EXPECT_LT(std::abs(correlation), 0.05) << "the stiffness field is independent of the strength field";
 }
 
 }  // namespace
