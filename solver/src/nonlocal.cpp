@@ -17,8 +17,8 @@ namespace {
 /// Per body where `use(body)`, the reciprocals of its smallest static thresholds: the strengths
 /// of its softening law times the smallest random-field factor of its bonds (the rate factors
 /// only raise them), divided by the bond's stiffness factor (the criteria see the material's
-/// stress times it: softening_bond). 0 where a threshold is not positive or the body is not used: such a
-/// body's disks are always near a criterion.
+/// stress times it: softening_bond). 0 where a threshold is not positive or the body is not
+/// used: such a body's disks are always near a criterion.
 template <class Use>
 void criterion_thresholds(const Model& m, Use&& use, std::vector<double>& inv_ft, std::vector<double>& inv_fc,
                           std::vector<double>& inv_mc) {

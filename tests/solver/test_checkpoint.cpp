@@ -208,6 +208,30 @@ TEST(Checkpoint, DruckerPragerDisksRoundTripAndContinueBitIdentically) {
   expect_same_continuation(a, b, run, p1, p2);
 }
 
+TEST(Checkpoint, RandomStrengthAndStiffnessRoundTripAndContinueBitIdentically) {
+  // kImpact's target with both random fields ([random]): the stiffness factors are a record,
+  // the target's springs are per bond, and the continuation is identical to the bit.
+  const std::string text =
+      std::string(kImpact) + "[random]\nseed = 3\ncorrelation_length = 2e-3\nstrength_cov = 0.1\nstiffness_cov = 0.2\n";
+  const Case c = parse_case(text, "impact.toml", ".");
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  ASSERT_FALSE(a.model().stiffness_scale.empty());
+  EXPECT_GT(a.time_step().stiffness_max, 1.0);
+  const std::vector<std::string> names = checkpoint_record_names(a);
+  EXPECT_NE(std::find(names.begin(), names.end(), "model.stiffness_scale"), names.end());
+  advance(a, 60);
+  ASSERT_GT(a.broken_bonds(), 0u);
+  RunState run;
+  const std::string p1 = temp_path("rs_a.chk"), p2 = temp_path("rs_b.chk");
+  write_checkpoint(p1, a, run);
+  Solver b(c, lattice);
+  RunState back;
+  read_checkpoint(p1, b, back);
+  expect_same_continuation(a, b, run, p1, p2);
+  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
+}
+
 TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
   // The disks along a Hilbert curve ([mesh] order): the checkpoint holds the renumbered state,
   // a restart meshes the same order again, and the rows-ordered case cannot read it.
