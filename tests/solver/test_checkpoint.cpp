@@ -113,6 +113,19 @@ void expect_same_continuation(Solver& a, Solver& b, const RunState& run, const s
   EXPECT_EQ(a.energy().total(), b.energy().total());
 }
 
+/// Writes a's checkpoint, restores it into a fresh solver of the same case and lattice, and
+/// checks that both continue identically (expect_same_continuation); `tag` names the files.
+void restore_and_continue(const Case& c, const meshing::Lattice& lattice, Solver& a, const std::string& tag) {
+  RunState run;
+  const std::string p1 = temp_path(tag + "_a.chk"), p2 = temp_path(tag + "_b.chk");
+  write_checkpoint(p1, a, run);
+  Solver b(c, lattice);
+  RunState back;
+  read_checkpoint(p1, b, back);
+  expect_same_continuation(a, b, run, p1, p2);
+  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
+}
+
 TEST(Checkpoint, MemberListCoversModelAndSolver) {
   const Case c = parse_case(kImpact, "impact.toml", ".");
   const Solver s(c, mesh_case(c));
@@ -199,13 +212,7 @@ TEST(Checkpoint, DruckerPragerDisksRoundTripAndContinueBitIdentically) {
   EXPECT_NE(std::find(names.begin(), names.end(), "model.j2_alpha"), names.end());
   advance(a, 60);
   ASSERT_GT(a.energy().plastic, 0.0);
-  RunState run;
-  const std::string p1 = temp_path("dp_a.chk"), p2 = temp_path("dp_b.chk");
-  write_checkpoint(p1, a, run);
-  Solver b(c, lattice);
-  RunState back;
-  read_checkpoint(p1, b, back);
-  expect_same_continuation(a, b, run, p1, p2);
+  restore_and_continue(c, lattice, a, "dp");
 }
 
 TEST(Checkpoint, RandomStrengthAndStiffnessRoundTripAndContinueBitIdentically) {
@@ -222,14 +229,7 @@ TEST(Checkpoint, RandomStrengthAndStiffnessRoundTripAndContinueBitIdentically) {
   EXPECT_NE(std::find(names.begin(), names.end(), "model.stiffness_scale"), names.end());
   advance(a, 60);
   ASSERT_GT(a.broken_bonds(), 0u);
-  RunState run;
-  const std::string p1 = temp_path("rs_a.chk"), p2 = temp_path("rs_b.chk");
-  write_checkpoint(p1, a, run);
-  Solver b(c, lattice);
-  RunState back;
-  read_checkpoint(p1, b, back);
-  expect_same_continuation(a, b, run, p1, p2);
-  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
+  restore_and_continue(c, lattice, a, "rs");
 }
 
 TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
