@@ -257,7 +257,7 @@ constexpr std::array<Key<MeshSettings>, 7> kMeshKeys{{
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
-constexpr std::array<Key<Material>, 22> kMaterialKeys{{
+constexpr std::array<Key<Material>, 23> kMaterialKeys{{
     {"id", true,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.id = static_cast<int>(in.integer(v, p, 0, INT_MAX));
@@ -304,6 +304,8 @@ constexpr std::array<Key<Material>, 22> kMaterialKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.radial_cracks = in.number(v, p); }},
     {"nonlocal_radius", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.nonlocal_radius = in.number(v, p); }},
+    {"damage_band", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.damage_band = in.number(v, p); }},
 }};
 constexpr std::array<std::string_view, 4> kFailureKeys{"tensile_strength", "compressive_strength", "cohesion",
                                                        "friction_angle"};

@@ -674,8 +674,8 @@ void CheckpointAccess::check_restored(const Solver& s, const Built& b, const Run
                                       {"friction_work", f.friction_work}, {"slip", f.slip}, {"damage", f.damage},
                                       {"kappa", f.kappa}, {"delta0", f.delta0}, {"delta_f", f.delta_f}})
       if (!std::isfinite(value)) c.fail(row + " " + name + " is " + number(value) + ", not finite");
-    if (f.crack < Model::kNoCrack || f.crack > Model::kShearCrack)
-      c.fail(row + " crack is " + std::to_string(f.crack) + ", not 0, 1 or 2 (none, tension or shear crack)");
+    if (f.crack < Model::kNoCrack || f.crack > Model::kDamageCrack)
+      c.fail(row + " crack is " + std::to_string(f.crack) + ", not 0, 1, 2 or 3 (none, tension, shear or damage crack)");
   }
   c.range("model.failed_row", m.failed_row, -1, static_cast<std::int64_t>(m.failed_rows.size()) - 1,
           "a row of model.failed_rows or -1");

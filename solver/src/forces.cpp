@@ -9,6 +9,7 @@
 #include <array>
 #include <utility>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -36,12 +37,14 @@ struct AdjacencyView {
   const std::int32_t* __restrict bond_j;
   const std::uint8_t* __restrict state;
   const std::int32_t* __restrict row;       ///< Model::failed_row; null without softening
+  const Model::FailedBond* rows;            ///< Model::failed_rows (a smeared-damage crack stays in the fit)
   const std::uint8_t* __restrict ok;        ///< LocalStrain::ok
   const double* __restrict x0;
   const double* __restrict y0;
   explicit AdjacencyView(const Model& m)
       : entry(m.adj_entry.data()), bond_i(m.bi.data()), bond_j(m.bj.data()), state(m.state.data()),
-        row(m.any_softening ? m.failed_row.data() : nullptr), ok(m.strain.ok.data()), x0(m.x0.data()),
+        row(m.any_softening ? m.failed_row.data() : nullptr), rows(m.failed_rows.data()), ok(m.strain.ok.data()),
+        x0(m.x0.data()),
         y0(m.y0.data()) {}
   /// Model::adj_bond: the bond of adjacency entry k.
   [[nodiscard]] std::size_t bond(std::int64_t k) const {
@@ -53,7 +56,9 @@ struct AdjacencyView {
     return static_cast<std::size_t>(bond_i[b] ^ bond_j[b]) ^ i;
   }
   /// Model::bond_in_fit.
-  [[nodiscard]] bool in_fit(std::size_t b) const { return state[b] <= 1 && (row == nullptr || row[b] < 0); }
+  [[nodiscard]] bool in_fit(std::size_t b) const {
+    return state[b] <= 1 && (row == nullptr || row[b] < 0 || rows[row[b]].crack == Model::kDamageCrack);
+  }
 };
 
 /// The local-strain model's shear measure of a bond, u_s = (d/2) s0.(eps_i + eps_j).n0 =
@@ -533,6 +538,7 @@ inline double closed_crack_stiffness(const Model& m, std::size_t b, double D) {
 /// FailedBond::crack of a tension crack and of a shear crack (shear_softening).
 constexpr std::int64_t kTensionCrack = Model::kTensionCrack;
 constexpr std::int64_t kShearCrack = Model::kShearCrack;
+constexpr std::int64_t kDamageCrack = Model::kDamageCrack;
 
 /// Current length and unit vector of the bond from disk i to disk j: its reference vector
 /// a (Model::ref_ax, ref_ay) plus the relative displacement (no cancellation of the positions).
@@ -615,6 +621,29 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
 constexpr std::uint8_t kStartsCracking = 8;
 /// newly_broken: the bond starts a shear crack (shear_softening; FailedBond::crack = kShearCrack).
 constexpr std::uint8_t kStartsShearCracking = 9;
+/// newly_broken: the bond starts smeared damage (damage_band; FailedBond::crack = kDamageCrack).
+constexpr std::uint8_t kStartsDamage = 10;
+
+/// The criteria of softening_bond (Rankine, crushing, Mohr-Coulomb) at the continuum stress of
+/// bond b's midpoint, relative to the static strengths times `scale` [-], from the disks'
+/// nonlocal strains (nonlocal_radius) or their own; the weights wi, wj of the two disks (a disk
+/// without a full neighbourhood has none). The driver of smeared damage (docs/model.md,
+/// "Smeared damage"): it grows with the strain whatever the bond's direction.
+inline double midpoint_criterion(const Model& m, const SofteningParams& sp, const laws::MohrCoulombFailure& law,
+                                 std::size_t b, std::size_t i, std::size_t j, double wi, double wj, double scale) {
+  const bool nonlocal = !m.nonlocal.offset.empty();
+  const std::vector<double>& gxx = nonlocal ? m.nonlocal.eps_xx : m.strain.eps_xx;
+  const std::vector<double>& gyy = nonlocal ? m.nonlocal.eps_yy : m.strain.eps_yy;
+  const std::vector<double>& gxy = nonlocal ? m.nonlocal.eps_xy : m.strain.eps_xy;
+  const bool axisym = m.geometry == Geometry::Axisymmetric;
+  const std::vector<double>& gtt = nonlocal ? m.nonlocal.eps_tt : m.strain.eps_tt;
+  const double ett = axisym ? wi * gtt[i] + wj * gtt[j] : 0.0;
+  const double fs = m.stiffness_factor(b);
+  return relative_criterion(fs * sp.lambda2, fs * sp.lambda3, fs * sp.mu, sp.mc.sin_phi, 1 / (law.f_t * scale),
+                            1 / (law.f_c * scale), 1 / (sp.mc.c * sp.mc.cos_phi * scale), wi * gxx[i] + wj * gxx[j],
+                            wi * gyy[i] + wj * gyy[j], wi * gxy[i] + wj * gxy[j], ett,
+                            m.geometry == Geometry::PlaneStress ? 0.0 : 1.0);
+}
 
 /// Eq. 19: the strengths of a bond of failure law l with section `sec` [m^2] (times the
 /// random field's factor) at the rate factors rf, with tan(phi) precomputed per law.
@@ -687,7 +716,35 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // An intact bond has its row exactly when it cracks (settle_broken_bonds adds it).
   const std::int32_t row = m.failed_row[b];
   Model::FailedBond* const crack = row >= 0 ? &m.failed_rows[static_cast<std::size_t>(row)] : nullptr;
-  if (crack != nullptr && crack->crack == kShearCrack) {
+  if (crack != nullptr && crack->crack == kDamageCrack) {
+    // Smeared damage (docs/model.md, "Smeared damage"): D grows with the criteria's value g at
+    // the bond's midpoint by the linear law from g0 (the start) to g0 k_f, and each increment
+    // books the springs' energy drop less the half step of the force drop, as a tension crack.
+    Model::FailedBond& f = *crack;
+    const bool nonlocal = !m.nonlocal.offset.empty();
+    const bool full_i = nonlocal ? m.nonlocal.offset[i + 1] > m.nonlocal.offset[i] : m.strain.ok[i] && m.initial_bonds(i) == 6;
+    const bool full_j = nonlocal ? m.nonlocal.offset[j + 1] > m.nonlocal.offset[j] : m.strain.ok[j] && m.initial_bonds(j) == 6;
+    // Away from the hot cells every criterion is below 1 <= kappa (NonlocalStrain::hot).
+    const bool hot = !nonlocal || m.nonlocal.disk_hot(i) || m.nonlocal.disk_hot(j);
+    if ((full_i || full_j) && hot) {
+      const double wi = full_i ? (full_j ? 0.5 : 1.0) : 0.0;
+      const double g = midpoint_criterion(m, sp, m.failure_laws[l], b, i, j, wi, 1.0 - wi, m.strength_factor(b));
+      if (g > f.kappa) {
+        const double d_old = f.damage, d = laws::LinearSoftening::damage(g, f.delta0, f.delta_f);
+        if (d > d_old) {
+          const double kn = m.kn(b), ks = m.ks(b);
+          const auto kn_of = [&](double dmg) { return delta > 0 ? (1 - dmg) * kn : closed_crack_stiffness(m, b, dmg); };
+          const auto energy = [&](double dmg) { return 0.5 * (kn_of(dmg) * delta * delta + (1 - dmg) * ks * us * us); };
+          const double half = 0.5 * ((kn_of(d_old) - kn_of(d)) * delta * du_n + (d - d_old) * ks * us * du_s);
+          const double released = (energy(d_old) - energy(d)) - half;
+          f.fracture_energy += std::max(released, 0.0);
+          f.break_kinetic += std::min(released, 0.0);
+          f.damage = d;
+        }
+        f.kappa = g;
+      }
+    }
+  } else if (crack != nullptr && crack->crack == kShearCrack) {
     // A shear crack (docs/model.md, "Shear cracks that soften"): the springs soften with D,
     // and the damaged part of the shear spring is the friction of the closed faces,
     // D k_s (u_s - slip), at most mu |f_n| (nothing while the crack is open). f_s =
@@ -825,6 +882,29 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   const double sxx = iso + 2 * mu * exx, syy = iso + 2 * mu * eyy, sxy = 2 * mu * exy;
   // The out-of-plane principal stress: plane strain lambda tr, axisymmetric the hoop stress.
   const double s3 = m.geometry == Geometry::PlaneStress ? 0.0 : lambda3 * (tr + ett) + 2 * mu * ett;
+  if (sp.damage_kf > 0) {
+    // Smeared damage starts where any criterion is reached at the midpoint (at the rate
+    // factors' strengths), whatever the bond's own stretch; D = 0 at its value there.
+    if (!laws::near_a_criterion(sxx, syy, sxy, s3, law.f_t * scale, sp.mc, scale)) return;
+    const double g0 = midpoint_criterion(m, sp, law, b, i, j, wi, wj, scale);
+    if (!(g0 >= 1)) return;
+    const laws::RateFactors& r = rate_factors();
+    if (r.tension != 1 || r.compression != 1 || r.cohesion != 1) {
+      laws::MohrCoulombFailure dyn = law;
+      dyn.f_t *= r.tension;
+      dyn.f_c *= r.compression;
+      SofteningParams sr = sp;
+      sr.mc.c *= r.cohesion;
+      if (!(midpoint_criterion(m, sr, dyn, b, i, j, wi, wj, scale) >= 1)) return;
+    }
+    if (sp.damage_kf > 1) {
+      add_crack_start(m, b, g0, g0 * sp.damage_kf);
+      m.newly_broken[b] = kStartsDamage;
+    } else {
+      m.newly_broken[b] = 1 + static_cast<std::uint8_t>(laws::FailureMode::Tension);
+    }
+    return;
+  }
   if (!laws::near_a_criterion(sxx, syy, sxy, s3, delta > 0 ? law.f_t * scale : kNoTension, sp.mc, scale)) return;
   const laws::Principal2D p = laws::principal_values_2d(sxx, syy, sxy);
   if (delta > 0 && p.s1 > law.f_t * scale) {
@@ -1388,6 +1468,35 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
   // The cracks the pass started, in bond order (its threads added them in any order).
   std::sort(m.cracks.starts.begin(), m.cracks.starts.end(),
             [](const CrackStart& a, const CrackStart& c) { return a.bond < c.bond; });
+  // Smeared damage that starts: the bond keeps its springs and its place in the fits, so
+  // nothing changes but its row (in bond order).
+  for (std::size_t b = first; b < nb; ++b) {
+    if (flags[b] != kStartsDamage) continue;
+    const auto start = std::lower_bound(m.cracks.starts.begin(), m.cracks.starts.end(), static_cast<std::int64_t>(b),
+                                        [](const CrackStart& c, std::int64_t bond) { return c.bond < bond; });
+    HEXDEM_VERIFY(start != m.cracks.starts.end() && start->bond == static_cast<std::int64_t>(b),
+                  "settle_broken_bonds: a damage start the force pass kept");
+    Model::FailedBond& f = add_failed_row(m, b);
+    f.crack = kDamageCrack;
+    f.delta0 = f.kappa = start->delta0;
+    f.delta_f = start->delta_f;
+    m.newly_broken[b] = 0;
+    --broken;
+    // Its disks' hoop terms keep only the hoop stress's square from now on, as at a break (the
+    // full term is bounded below only by undamaged in-plane springs), with the constant that
+    // keeps their energy continuous.
+    if (!m.hoop.cut.empty())
+      for (const auto i : {static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b])})
+        if (!m.hoop.cut[i]) {
+          const double before = hoop_energy(m, i);
+          m.hoop.cut[i] = 1;
+          m.hoop.constant[i] += hoop_energy(m, i) - before;
+        }
+  }
+  if (broken == 0) {
+    m.cracks.starts.clear();
+    return 0;
+  }
   // Forces with the bonds still intact, as the pass computed them.
   std::copy(m.fx.begin(), m.fx.end(), m.fx_intact.begin());
   std::copy(m.fy.begin(), m.fy.end(), m.fy_intact.begin());

@@ -142,6 +142,9 @@ std::optional<MaterialIssue> Material::check() const {
     return issue("nonlocal_radius", "must be >= 0 [m]", nonlocal_radius);
   if (shear_softening && !(fracture_energy > 0))
     return MaterialIssue{"shear_softening", "softens shear cracks with the fracture energy: it needs a fracture_energy > 0 (got true)"};
+  if (!(damage_band >= 0.0) || !std::isfinite(damage_band)) return issue("damage_band", "must be >= 0 [m]", damage_band);
+  if (damage_band > 0 && !(fracture_energy > 0))
+    return issue("damage_band", "spreads the fracture energy over a band: it needs a fracture_energy", damage_band);
   if (nonlocal_radius > 0 && !(fracture_energy > 0))
     return issue("nonlocal_radius", "averages the softening criteria: it needs a fracture_energy", nonlocal_radius);
   if (isotropic) {

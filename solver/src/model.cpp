@@ -164,6 +164,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
       sp.lambda2 = geometry == Geometry::PlaneStress ? 2 * sp.lambda3 * sp.mu / (sp.lambda3 + 2 * sp.mu) : sp.lambda3;
       sp.radial_cracks = mat.radial_cracks;
       sp.shear = mat.shear_softening;
+      if (mat.damage_band > 0)
+        sp.damage_kf = 2 * mat.fracture_energy * mat.E / (mat.tensile_strength * mat.tensile_strength * mat.damage_band);
       const double phi = mat.friction_angle * 0.017453292519943295;
       sp.mc = {mat.cohesion, std::sin(phi), std::cos(phi), mat.compressive_strength};
       m.any_softening = true;

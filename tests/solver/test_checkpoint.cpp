@@ -232,6 +232,24 @@ TEST(Checkpoint, RandomStrengthAndStiffnessRoundTripAndContinueBitIdentically) {
   restore_and_continue(c, lattice, a, "rs");
 }
 
+TEST(Checkpoint, SmearedDamageRoundTripsAndContinuesBitIdentically) {
+  // kImpact's target with smeared damage (damage_band): its damaging bonds' rows (kind 3,
+  // their drivers relative to the criteria) are restored, and they stay in the disks' fits.
+  const Case c =
+      parse_case(kImpact, "impact.toml", ".", {"material.1.fracture_energy=100", "material.1.damage_band=2e-3"});
+  const meshing::Lattice lattice = mesh_case(c);
+  Solver a(c, lattice);
+  const auto damaging = [](const Model& m) {
+    std::size_t n = 0;
+    for (std::size_t b = 0; b < m.num_bonds(); ++b) n += m.bond_intact(b) && m.bond_crack(b) == Model::kDamageCrack;
+    return n;
+  };
+  for (int k = 0; k < 4000 && damaging(a.model()) < 5; ++k) ASSERT_TRUE(a.advance(false));
+  ASSERT_GE(damaging(a.model()), 5u) << "no bond started to damage";
+  advance(a, 20);
+  restore_and_continue(c, lattice, a, "sd");
+}
+
 TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
   // The disks along a Hilbert curve ([mesh] order): the checkpoint holds the renumbered state,
   // a restart meshes the same order again, and the rows-ordered case cannot read it.
@@ -483,7 +501,7 @@ TEST(Checkpoint, ForgedCrackStateIsRefused) {
   const std::string at = "record 'model.failed_rows' row " + std::to_string(row);
   const std::vector<std::tuple<const char*, std::function<void(std::vector<RawRecord>&)>, std::string>> forgeries = {
       {"unknown crack kind", set_element<std::int64_t>("model.failed_rows", row, 7, offsetof(Model::FailedBond, crack)),
-       at + " crack is 7, not 0, 1 or 2"},
+       at + " crack is 7, not 0, 1, 2 or 3"},
       {"NaN damage", set_element<double>("model.failed_rows", row, nan, offsetof(Model::FailedBond, damage)),
        at + " damage is nan, not finite"},
       {"infinite failure driver", set_element<double>("model.failed_rows", row, std::numeric_limits<double>::infinity(),

@@ -85,6 +85,12 @@ struct Material {
   /// Softening: the radius R [m] over which the criteria average the disks' strains
   /// (docs/model.md, "Nonlocal criterion"); 0: each bond reads its own two disks.
   double nonlocal_radius = 0;
+  /// Softening: smeared damage (docs/model.md, "Smeared damage"). > 0: a bond's damage grows
+  /// with the criteria's value at the (nonlocal) continuum strain of its midpoint, not with its
+  /// own stretch, and the bond stays in its disks' strain fits until it breaks; the width w [m]
+  /// of the band over which a crack dissipates G_F sets the softening. 0: the bond's own
+  /// elongation drives its damage (the default).
+  double damage_band = 0;
 
   double friction = 0.5;  ///< Coulomb friction coefficient of contacts [-]
 

@@ -53,6 +53,9 @@ struct SofteningParams {
   double lambda3 = 0;       ///< 3D Lame constant (out-of-plane and hoop terms) [Pa]
   double radial_cracks = 0; ///< axisymmetric: radial cracks that relieve hoop tension [-]
   bool shear = false;       ///< Mohr-Coulomb shear starts a softening crack (shear_softening)
+  /// Smeared damage (damage_band w > 0): the criteria's value at failure relative to the
+  /// start, k_f = 2 G_F E / (f_t^2 w) [-]; 0: off (docs/model.md, "Smeared damage").
+  double damage_kf = 0;
   laws::StressMohrCoulomb mc;  ///< shear and crushing on the continuum stress
 };
 
@@ -355,7 +358,9 @@ struct Model {
     std::int64_t crack = 0;
     bool operator==(const FailedBond&) const = default;
   };
-  static constexpr std::int64_t kNoCrack = 0, kTensionCrack = 1, kShearCrack = 2;
+  /// kDamageCrack: smeared damage (damage_band); its driver is the criteria's value at the
+  /// bond's midpoint [-], and the bond stays in its disks' fits until it breaks.
+  static constexpr std::int64_t kNoCrack = 0, kTensionCrack = 1, kShearCrack = 2, kDamageCrack = 3;
   /// One row per bond that has cracked or broken, in the order they did (settle_broken_bonds
   /// adds it), and each bond's row, -1 before (allocated if any_breakable): all of it is zero
   /// on every other bond, so it is not stored per bond (failed(b), bond_fracture_energy(b)...).
@@ -407,7 +412,10 @@ struct Model {
   [[nodiscard]] std::size_t num_bonds() const { return bi.size(); }
   [[nodiscard]] bool bond_intact(std::size_t b) const { return state[b] <= 1; }
   /// Intact and not cracking: the bond enters its disks' strain fits.
-  [[nodiscard]] bool bond_in_fit(std::size_t b) const { return state[b] <= 1 && (!any_softening || failed_row[b] < 0); }
+  [[nodiscard]] bool bond_in_fit(std::size_t b) const {
+    return state[b] <= 1 && (!any_softening || failed_row[b] < 0 ||
+                             failed_rows[static_cast<std::size_t>(failed_row[b])].crack == kDamageCrack);
+  }
   /// Reference bond vector x0[bj] - x0[bi] [m], recomputed (the same bits as at build time).
   [[nodiscard]] double ref_ax(std::size_t b) const {
     return kind_ax.empty() ? x0[static_cast<std::size_t>(bj[b])] - x0[static_cast<std::size_t>(bi[b])] : kind_ax[spring_kind[b]];
