@@ -9,7 +9,7 @@ KIND is tension, compression, brazilian or notched_beam (the case KIND.toml besi
 script). Every combination of the lists is one run of `hexdem run KIND.toml --set ...` in its
 own folder under DIR, analysed by analyse.py. Prints one line per run, then for each result
 its mean, the spread (max - min) and the largest deviation from the mean in % of the mean.
-Exits 1 if a run or its analysis fails, a --check or --max limit is passed, or (--strict) a run
+Exits 1 if a run or its analysis fails, a --check, --max or --min limit is passed, or (--strict) a run
 fails one of analyse.py's own checks; otherwise 3 if a run completed with a warning (`hexdem
 run` exit code 3: its energy error passed [time] energy_warning; analyse.py records it as the
 result's "run_warning"), else 0.
@@ -108,6 +108,8 @@ def main(argv):
                     help="KEY=PCT: exit 1 if a result's largest deviation from its mean exceeds PCT %%")
     ap.add_argument("--max", action="append", default=[],
                     help="KEY=VALUE: exit 1 if a result exceeds VALUE in some run")
+    ap.add_argument("--min", action="append", default=[],
+                    help="KEY=VALUE: exit 1 if a result is below VALUE in some run")
     ap.add_argument("--strict", action="store_true",
                     help="exit 1 if a run fails one of analyse.py's own checks (they are printed anyway)")
     args = ap.parse_args(argv)
@@ -137,6 +139,13 @@ def main(argv):
         for r in rows:
             if not r.get(key, float("inf")) <= float(limit):
                 print("check failed: %s = %s above %s in the run at angle %s, radius %s, seed %s" %
+                      (key, r.get(key), limit, r["angle"], r["radius"], r["seed"]))
+                ok = False
+    for spec in args.min:
+        key, limit = spec.split("=")
+        for r in rows:
+            if not r.get(key, -float("inf")) >= float(limit):
+                print("check failed: %s = %s below %s in the run at angle %s, radius %s, seed %s" %
                       (key, r.get(key), limit, r["angle"], r["radius"], r["seed"]))
                 ok = False
     failed = [r for r in rows if not all(r.get("checks", {}).values())]
