@@ -9,7 +9,6 @@
 #include <array>
 #include <utility>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 

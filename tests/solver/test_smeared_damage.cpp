@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/softening_plate.hpp"
 #include "hexdem/error.hpp"
 #include "hexdem/laws/softening.hpp"
 #include "hexdem/solver/case_toml.hpp"
@@ -20,19 +21,12 @@ namespace {
 using namespace hexdem;
 using namespace hexdem::solver;
 
-/// A 20 mm square plate of concrete (plane stress, 10 mm thick, r = 1 mm) with smeared damage
-/// over a 3 mm band, without rate dependence or a random field.
+/// The softening plate (tests/common) with smeared damage over a 3 mm band, without rate
+/// dependence or a random field; `extra_material` "" gives the bond-driven law.
 std::string plate_case(double angle, const std::string& extra_material = "damage_band = 3e-3\n") {
-  std::ostringstream s;
-  s << "units = \"mm\"\n[case]\nname = \"plate\"\ngeometry = \"plane-stress\"\nthickness = 0.01\n"
-    << "[mesh]\nradius = 1.0e-3\nangle = " << angle << "\n"
-    << "[[body]]\nname = \"plate\"\nmaterial = 1\n  [[body.shape]]\n  type = \"rectangle\"\n"
-    << "  min = [0.0, 0.0]\n  max = [20.0, 20.0]\n"
-    << "[[material]]\nid = 1\nname = \"concrete\"\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
-    << "tensile_strength = 3e6\ncompressive_strength = 30e6\ncohesion = 8.66e6\nfriction_angle = 30.0\n"
-    << "fracture_energy = 100.0\nrate_dependent = false\n"
-    << extra_material << "[time]\nend = 1e-6\n";
-  return s.str();
+  return hexdem::testing::softening_plate_case(
+      angle, "tensile_strength = 3e6\ncompressive_strength = 30e6\ncohesion = 8.66e6\nfriction_angle = 30.0\n",
+      extra_material, 1e-6);
 }
 
 /// The affine displacement of a uniaxial stress s f_t along y (plane stress, nu = 0.2).

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/expanding_ring.hpp"
+#include "common/softening_plate.hpp"
 #include "hexdem/error.hpp"
 #include "hexdem/laws/softening.hpp"
 #include "hexdem/solver/case_toml.hpp"
@@ -239,16 +240,9 @@ struct ClosingCrack {
   long crossings = 0;
 };
 ClosingCrack closing_crack(double angle, double damage) {
-  std::ostringstream s;
-  s << "units = \"mm\"\n[case]\nname = \"plate\"\ngeometry = \"plane-stress\"\nthickness = 0.01\n"
-    << "[mesh]\nradius = 1.0e-3\nangle = " << angle << "\n"
-    << "[[body]]\nname = \"plate\"\nmaterial = 1\n  [[body.shape]]\n  type = \"rectangle\"\n"
-    << "  min = [0.0, 0.0]\n  max = [20.0, 20.0]\n"
-    << "[[material]]\nid = 1\nname = \"concrete\"\ndensity = 2400.0\nE = 30e9\nnu = 0.2\n"
-    << "tensile_strength = 3e9\ncompressive_strength = 30e9\ncohesion = 6e9\nfriction_angle = 30.0\n"
-    << "fracture_energy = 100.0\nrate_dependent = false\n"
-    << "[time]\nend = 1e-4\n";
-  const Case c = parse_case(s.str(), "plate.toml", ".");
+  const std::string text = hexdem::testing::softening_plate_case(
+      angle, "tensile_strength = 3e9\ncompressive_strength = 30e9\ncohesion = 6e9\nfriction_angle = 30.0\n", "", 1e-4);
+  const Case c = parse_case(text, "plate.toml", ".");
   Solver sv(c, mesh_case(c));
   Model& m = sv.model();
   const double mid = 0.01, v = 0.5;
