@@ -691,6 +691,15 @@ inline void start_shear_cracking(Model& m, std::size_t b, double G_F, double d0)
   }
 }
 
+/// Whether disk i gives the midpoint criteria its strain: with the nonlocal average, a disk
+/// that has one (NonlocalStrain::offset); else a disk with a local strain and a full
+/// neighbourhood (six bonds in the initial lattice). See softening_bond for why edge disks
+/// are left out.
+inline bool criterion_disk(const Model& m, std::size_t i) {
+  if (!m.nonlocal.offset.empty()) return m.nonlocal.offset[i + 1] > m.nonlocal.offset[i];
+  return m.strain.ok[i] && m.initial_bonds(i) == 6;
+}
+
 /// No tensile strength to check (a closing bond does not start to crack).
 constexpr double kNoTension = std::numeric_limits<double>::infinity();
 
@@ -721,8 +730,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
     // books the springs' energy drop less the half step of the force drop, as a tension crack.
     Model::FailedBond& f = *crack;
     const bool nonlocal = !m.nonlocal.offset.empty();
-    const bool full_i = nonlocal ? m.nonlocal.offset[i + 1] > m.nonlocal.offset[i] : m.strain.ok[i] && m.initial_bonds(i) == 6;
-    const bool full_j = nonlocal ? m.nonlocal.offset[j + 1] > m.nonlocal.offset[j] : m.strain.ok[j] && m.initial_bonds(j) == 6;
+    const bool full_i = criterion_disk(m, i);
+    const bool full_j = criterion_disk(m, j);
     // Away from the hot cells every criterion is below 1 <= kappa (NonlocalStrain::hot).
     const bool hot = !nonlocal || m.nonlocal.disk_hot(i) || m.nonlocal.disk_hot(j);
     if ((full_i || full_j) && hot) {
@@ -844,8 +853,8 @@ void softening_bond(Model& m, std::size_t b, double len, double du_n, double du_
   // A disk that has lost its fit gives its frozen strain (settle_broken_bonds): excluding it
   // (Eq. 19 on the bond's own forces instead) made a rotated bar's crack dissipate 0.86 G_F A.
   const bool nonlocal = !m.nonlocal.offset.empty();
-  const bool full_i = nonlocal ? m.nonlocal.offset[i + 1] > m.nonlocal.offset[i] : m.strain.ok[i] && m.initial_bonds(i) == 6;
-  const bool full_j = nonlocal ? m.nonlocal.offset[j + 1] > m.nonlocal.offset[j] : m.strain.ok[j] && m.initial_bonds(j) == 6;
+  const bool full_i = criterion_disk(m, i);
+  const bool full_j = criterion_disk(m, j);
   if (!full_i && !full_j) {
     const double sec = m.bond_section(b) * scale;
     if (laws::MohrCoulombFailure::mode(m.f_n[b], m.f_s[b], bond_strength(m, l, {}, sec)) == laws::FailureMode::None)
