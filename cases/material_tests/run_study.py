@@ -89,6 +89,7 @@ def run_one(args, angle, radius, seed):
         sets.append("mesh.radius=%g" % radius)
     if seed is not None:
         sets.append("random.seed=%d" % seed)
+        sets.append("mesh.jitter_seed=%d" % seed)
     res, line = run_case(args.hexdem, os.path.join(HERE, args.kind + ".toml"), args.kind, out, sets)
     return tag, res, line
 

@@ -10,7 +10,8 @@
 Runs every member (speed x angle x radius x seed) with `hexdem run` and `--set` overrides of
 the shipped case files (case.toml at 100 m/s, case_50.toml at 50 m/s, case_25.toml at 25 m/s;
 with --reduced, case_ctest.toml at 100 m/s: r = 1 mm, 150 us, the ctest's size):
-`mesh.angle` (both bodies), `mesh.radius` and `random.seed`, and any `--set KEY=VALUE` given
+`mesh.angle` (both bodies), `mesh.radius`, and `random.seed` with `mesh.jitter_seed` (a
+member's seed sets its strength field and, with `--set mesh.jitter=F`, its irregular lattice), and any `--set KEY=VALUE` given
 here for every member (e.g. `--set material.concrete.nonlocal_radius=4e-3`). `--control none`
 runs the study without fracture or plasticity (the concrete's strengths 1e12 Pa, the steel's
 yield stress 1e12 Pa), `--control broken` with the disc's bonds broken wherever the stress
@@ -90,7 +91,7 @@ def run_member(args, speed, angle, radius, seed, k=0):
     os.makedirs(work, exist_ok=True)
     case = os.path.join(HERE, (REDUCED if args.reduced else CASES)[speed])
     overrides = ["--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius,
-                 "--set", "random.seed=%d" % seed]
+                 "--set", "random.seed=%d" % seed, "--set", "mesh.jitter_seed=%d" % seed]
     if args.perturb > 0:
         overrides += ["--set", "initial_velocity.warhead.velocity=[0, %.17g]" % (-speed * (1 + k * args.delta))]
     for extra in CONTROLS.get(args.control, []) + args.set:

@@ -37,6 +37,9 @@ int run_check(const CheckArgs& a) {
   std::printf("  disks %zu (semi-disks %lld), bonds %zu%s\n", lattice.num_disks(), static_cast<long long>(rep.semi_disks),
               lattice.num_bonds(),
               c.disk_order == meshing::DiskOrder::Hilbert ? " (numbered along a Hilbert curve: [mesh] order)" : "");
+  if (c.mesh_jitter > 0)
+    std::printf("  irregular lattice: interior disks moved by up to %.6g r ([mesh] jitter, jitter_seed %lld)\n",
+                c.mesh_jitter, static_cast<long long>(c.mesh_jitter_seed));
   std::vector<std::size_t> per_body(lattice.body_names.size(), 0);
   for (std::int32_t b : lattice.body) ++per_body[static_cast<std::size_t>(b)];
   for (std::size_t b = 0; b < lattice.body_names.size(); ++b) {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "hexdem/error.hpp"
+#include "hexdem/meshing/lattice_jitter.hpp"
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
 #include "hexdem/meshing/outline_toml_table.hpp"
@@ -87,6 +88,8 @@ struct MeshSettings {
   meshing::ReadOptions options;
   std::int64_t max_disks = meshing::kDefaultMaxDisks;
   meshing::DiskOrder order = meshing::DiskOrder::Rows;
+  double jitter = 0.0;
+  std::int64_t jitter_seed = 1;
 };
 
 /// The allowed choices of a string-valued key.
@@ -225,7 +228,7 @@ constexpr std::array<Key<Case>, 4> kCaseKeys{{
      }},
 }};
 
-constexpr std::array<Key<MeshSettings>, 7> kMeshKeys{{
+constexpr std::array<Key<MeshSettings>, 9> kMeshKeys{{
     {"outline", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.outline_file = in.name(v, p);
@@ -254,6 +257,15 @@ constexpr std::array<Key<MeshSettings>, 7> kMeshKeys{{
      }},
     {"order", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.order = in.choice(v, p, kDiskOrders); }},
+    {"jitter", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) {
+       m.jitter = in.number(v, p);
+       if (!(m.jitter >= 0.0 && m.jitter <= meshing::kMaxJitter))
+         in.fail(v, p, "must lie in [0, 0.3] (a fraction of the disk radius) (got " +
+                           describe(v) + ")");
+     }},
+    {"jitter_seed", false,
+     [](const auto& in, const auto& v, const auto& p, auto& m) { m.jitter_seed = in.integer(v, p, 0, INT64_MAX); }},
 }};
 
 /// Keys of [[material]]; which of E, nu / c11, c12, c22, c66 are needed is checked after.
@@ -731,6 +743,8 @@ Case Reader::read(toml::table& root, std::optional<std::int64_t> max_disks) {
   mesh.options.max_disks = mesh.max_disks;
   mesh.options.max_disks_hint = kMaxDisksHint;
   c.disk_order = mesh.order;
+  c.mesh_jitter = mesh.jitter;
+  c.mesh_jitter_seed = mesh.jitter_seed;
   read_outline(root, mesh, c);
   read_materials(root, c);
   check_bodies(c);

@@ -95,6 +95,7 @@ void visit_model(M& m, V& v) {
   v.state("bi", m.bi); v.state("bj", m.bj);
   v.state("rest_length", m.rest_length);
   v.state("g_xx", m.g_xx); v.state("g_yy", m.g_yy); v.state("g_xy", m.g_xy);
+  v.rebuilt("touch_at_rest", m.touch_at_rest);  // from the reference geometry (build_model)
   v.rebuilt("kind_ax", m.kind_ax); v.rebuilt("kind_ay", m.kind_ay);  // per kind: from the lattice
   v.rebuilt("kind_rest", m.kind_rest);
   v.rebuilt("kind_g_xx", m.kind_g_xx); v.rebuilt("kind_g_yy", m.kind_g_yy); v.rebuilt("kind_g_xy", m.kind_g_xy);

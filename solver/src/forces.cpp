@@ -586,7 +586,7 @@ double intact_bond_energy(const Model& m, std::size_t b) {
 /// at the overlap of the last update (not f_n^2 / (2 k_n): f_n includes the dashpot) and its
 /// tangential spring.
 double contact_bond_energy(const Model& m, std::size_t b) {
-  const double delta = std::max(m.radius[m.bi[b]] + m.radius[m.bj[b]] - m.len_prev[b], 0.0);
+  const double delta = std::max(m.touch(b) - m.len_prev[b], 0.0);
   return 0.5 * contact_normal_stiffness(m, b) * delta * delta +
          0.5 * m.f_s[b] * m.f_s[b] / contact_tangential_stiffness(m, b);
 }
@@ -599,7 +599,7 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
   const double sx = -ny, sy = nx;
   const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
-  const double delta = m.radius[i] + m.radius[j] - len;
+  const double delta = m.touch(b) - len;
   const double du_s =
       dt_shear * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
   const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.bond_mu(b),
@@ -1644,7 +1644,7 @@ std::size_t settle_broken_bonds(Model& m, double dt) {
     // A bond that starts to crack keeps its springs and releases nothing.
     double own_release = 0.0;
     if (!starts_cracking) {
-      const double overlap = m.radius[disks[0]] + m.radius[disks[1]] - m.len_prev[b];
+      const double overlap = m.touch(b) - m.len_prev[b];
       const double kept = own_energy() + (overlap > 0 ? 0.5 * contact_normal_stiffness(m, b) * overlap * d_len : 0.0);
       own_release = std::max(own - own_half - kept, 0.0);
       // The new contact's dashpot force acts from t_n: its half step before t_n is dashpot

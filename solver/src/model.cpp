@@ -247,6 +247,8 @@ Model build(const meshing::Lattice& lat, Model m, Geometry geometry, double thic
         m.g_xy[b] = r.g_xy;
       }
     }
+    if (!m.touch_at_rest && std::abs(m.rest(b) - (m.radius[i] + m.radius[j])) > 1e-9 * (m.radius[i] + m.radius[j]))
+      m.touch_at_rest = true;
     const SpringConstants& K = materials.at(static_cast<std::size_t>(m.body[i])).springs;
     // A bond along a neat edge (two semi-disks) has half a bond's area in the region: half
     // its stiffness, so that the lattice energy under a homogeneous strain is the
@@ -452,10 +454,16 @@ void update_strain_matrix(Model& m, std::size_t i) {
     sxy += ax * ay;
     syy += ay * ay;
   }
-  // A disk with fewer than two independent bonds has no local strain.
+  // A disk with fewer than two independent bonds has no local strain, nor has one whose bonds
+  // nearly line up: det / (sxx + syy)^2 = sum over pairs of sin^2 of their angle, over the
+  // bond count squared (equal lengths), is 0 or at least 1/6 for any bonds of a regular
+  // lattice (two at 60 degrees: 3/16); on an irregular lattice ([mesh] jitter) two bonds a
+  // few degrees off a line would give a fit whose inverse, and with it the shear springs'
+  // stiffness, grows as 1 / angle^2, far beyond the critical step's. 1/10 keeps every fit of
+  // a regular lattice and refuses two bonds closer than 39 degrees to a line.
   const double det = sxx * syy - sxy * sxy;
   const double scale = sxx + syy;
-  if (det > 1e-6 * scale * scale) {
+  if (det > 0.1 * scale * scale) {
     m.strain.minv_xx[i] = syy / det;
     m.strain.minv_yy[i] = sxx / det;
     m.strain.minv_xy[i] = -sxy / det;

@@ -10,6 +10,7 @@
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/lattice_jitter.hpp"
 #include "hexdem/meshing/toml_values.hpp"
 #include "hexdem/solver/boundary_checks.hpp"
 #include "hexdem/solver/checkpoint.hpp"
@@ -28,6 +29,7 @@ meshing::Lattice mesh_case(const Case& c, meshing::GeneratorReport* report) {
   go.max_disks = c.max_disks;
   go.max_disks_hint = kMaxDisksHint;
   meshing::Lattice lattice = meshing::generate_lattice(c.outline, go, report);
+  meshing::jitter_lattice(lattice, c.mesh_jitter, static_cast<std::uint64_t>(c.mesh_jitter_seed));
   meshing::apply_disk_order(lattice, c.disk_order);
   return lattice;
 }

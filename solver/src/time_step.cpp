@@ -225,7 +225,9 @@ std::optional<double> Solver::band_omega2_max(int width, int halo, std::size_t* 
   const Model& m = model_;
   // The sub-model needs the bonds' stiffness per spring kind (plane models): an axisymmetric
   // model's rings differ from disk to disk, so its whole model is its band.
-  if (m.geometry == Geometry::Axisymmetric || m.spring_kind.empty()) return std::nullopt;
+  // An irregular lattice ([mesh] jitter: the reference geometry per bond) has no bulk whose
+  // Bloch value bounds the interior: the whole model is its band too.
+  if (m.geometry == Geometry::Axisymmetric || m.spring_kind.empty() || m.kind_rest.empty()) return std::nullopt;
   const std::size_t n = m.num_disks();
   const std::int32_t reach = width + halo;
   constexpr std::int32_t kFar = std::numeric_limits<std::int32_t>::max();

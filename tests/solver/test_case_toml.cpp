@@ -657,6 +657,26 @@ TEST(CaseToml, TimeStepNotPositive) {
                                    ": time.safety: must lie in (0, 1] (got 1.5)");
 }
 
+TEST(CaseToml, MeshJitter) {
+  Parts parts;
+  EXPECT_EQ(parse(parts.text()).mesh_jitter, 0.0);  // the regular lattice by default
+  EXPECT_EQ(parse(parts.text()).mesh_jitter_seed, 1);
+  parts.head += "[mesh]\njitter = 0.25\njitter_seed = 7\n";
+  const Case c = parse(parts.text());
+  EXPECT_EQ(c.mesh_jitter, 0.25);
+  EXPECT_EQ(c.mesh_jitter_seed, 7);
+  for (const char* bad : {"0.5", "-0.1"}) {
+    parts.head = std::string("[case]\ngeometry = \"plane-stress\"\n[mesh]\njitter = ") + bad + "\n";
+    EXPECT_EQ(parse_error(parts.text()), "case.toml:" + std::to_string(line_of(parts.text(), "jitter =")) +
+                                             ": mesh.jitter: must lie in [0, 0.3] (a fraction of the disk radius) (got " +
+                                             bad + ")");
+  }
+  parts.head = "[case]\ngeometry = \"plane-stress\"\n[mesh]\njitter = nan\n";
+  EXPECT_EQ(parse_error(parts.text()), "case.toml:4: mesh.jitter: must be finite (got nan)");
+  parts.head = "[case]\ngeometry = \"plane-stress\"\n[mesh]\njitter_seed = -1\n";
+  EXPECT_NE(parse_error(parts.text()).find(": mesh.jitter_seed: "), std::string::npos) << parse_error(parts.text());
+}
+
 TEST(CaseToml, MissingTimeEnd) {
   Parts parts;
   parts.time = "\n[time]\ndt = 1e-7\n";

@@ -119,6 +119,19 @@ TEST(CriticalStep, NoBandForAxisymmetricOrSmallModels) {
   EXPECT_EQ(ss.finite_estimate_disks(), ss.model().num_disks());
 }
 
+TEST(CriticalStep, NoBandForAnIrregularLattice) {
+  // [mesh] jitter moves the interior disks off their sites: the bulk is no Bloch lattice, so the
+  // whole model is estimated, and the step lies below the whole model's critical step.
+  const std::string text = std::string("[mesh]\njitter = 0.3\n") + plate_case("plane-stress", "local-strain");
+  const Case c = parse_case(text, "jitter.toml", HEXDEM_SOURCE_DIR);
+  Solver s(c, mesh_case(c));
+  EXPECT_TRUE(s.model().kind_rest.empty()) << "the reference geometry is per bond";
+  EXPECT_FALSE(s.band_omega2_max(16, 3).has_value());
+  EXPECT_EQ(s.finite_estimate_disks(), s.model().num_disks());
+  const double whole = s.finite_omega2_max();
+  EXPECT_LE(s.dt(), 2.0 / std::sqrt(whole) * (1 + 1e-12));
+}
+
 TEST(CriticalStep, ThinSlitAndALightDiskStayInTheBand) {
   // A slit 0.3 r wide across the plate (in place of the hole): the disks beside it lose their
   // bonds across it or become semi-disks, and none keeps six bonds with a cut cell (which the

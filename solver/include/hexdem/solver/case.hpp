@@ -150,6 +150,11 @@ struct Case {
   std::int64_t max_disks = meshing::kDefaultMaxDisks;
   /// The disks' order in memory ([mesh] order): the generator's rows, or a Hilbert curve.
   meshing::DiskOrder disk_order = meshing::DiskOrder::Rows;
+  /// [mesh] jitter: the interior disks moved off their sites by up to this fraction of r
+  /// (meshing::jitter_lattice; 0, the default, keeps the regular lattice), with the stream
+  /// [mesh] jitter_seed.
+  double mesh_jitter = 0.0;
+  std::int64_t mesh_jitter_seed = 1;
   std::vector<Material> materials;
   std::vector<BoundaryCondition> boundaries;
   std::vector<Load> loads;

@@ -284,6 +284,9 @@ struct Model {
   /// The other form is empty.
   std::vector<double> rest_length;
   std::vector<double> g_xx, g_yy, g_xy;
+  /// Some bond's rest length is not its disks' radii's sum (an irregular lattice, [mesh]
+  /// jitter): set by build_model from the reference geometry; read through touch(b).
+  bool touch_at_rest = false;
   std::vector<double> kind_ax, kind_ay, kind_rest, kind_g_xx, kind_g_yy, kind_g_xy;
   /// Spring stiffnesses [N/m] (include w), read through kn(b) and ks(b): per bond in
   /// axisymmetric models (w is the bond's ring radius), otherwise once per spring kind (body,
@@ -482,6 +485,14 @@ struct Model {
   [[nodiscard]] bool elastic_lattice() const { return !(any_plastic || any_breakable || any_softening || any_j2); }
   /// Rest length of bond b [m].
   [[nodiscard]] double rest(std::size_t b) const { return kind_rest.empty() ? rest_length[b] : kind_rest[spring_kind[b]]; }
+  /// The length at which bond b's disks touch once it has broken [m]: r_i + r_j, or on an
+  /// irregular lattice the smaller of that and the rest length, so that disks moved closer
+  /// than r_i + r_j are not pushed apart when their bond breaks (docs/model.md, "Irregular
+  /// lattice").
+  [[nodiscard]] double touch(std::size_t b) const {
+    const double sum = radius[static_cast<std::size_t>(bi[b])] + radius[static_cast<std::size_t>(bj[b])];
+    return touch_at_rest ? std::min(rest(b), sum) : sum;
+  }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
   [[nodiscard]] double ks(std::size_t b) const { return k_s.empty() ? kind_k_s[spring_kind[b]] : k_s[b]; }
   [[nodiscard]] double strength_factor(std::size_t b) const { return strength_scale.empty() ? 1.0 : strength_scale[b]; }
