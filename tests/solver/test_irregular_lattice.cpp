@@ -9,7 +9,7 @@
 #include <numbers>
 #include <vector>
 
-#include "hexdem/meshing/lattice_generator.hpp"
+#include "common/square_patch.hpp"
 #include "hexdem/meshing/lattice_jitter.hpp"
 #include "hexdem/solver/model.hpp"
 
@@ -22,21 +22,7 @@ constexpr double kR = 0.5e-3;
 constexpr int kCells = 40;  // the patch is kCells x 2r square
 
 meshing::Lattice square_lattice(double jitter, std::uint64_t seed, double angle_deg) {
-  meshing::Outline o;
-  meshing::BodyOutline b;
-  b.name = "patch";
-  b.where = "patch";
-  b.angle_deg = angle_deg;
-  const double L = kCells * 2 * kR;
-  meshing::Loop loop;
-  loop.points = {{0, 0}, {L, 0}, {L, L}, {0, L}};
-  loop.edge_set.assign(4, -1);
-  loop.edge_straight.assign(4, 1);
-  b.outers.push_back(loop);
-  o.bodies.push_back(b);
-  meshing::GeneratorOptions go;
-  go.lattice.radius = kR;
-  meshing::Lattice lat = meshing::generate_lattice(o, go);
+  meshing::Lattice lat = hexdem::testing::square_patch(kR, kCells, angle_deg);
   meshing::jitter_lattice(lat, jitter, seed);
   return lat;
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/square_patch.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
 #include "hexdem/solver/model.hpp"
 
@@ -14,23 +15,6 @@ namespace {
 
 using namespace hexdem;
 using namespace hexdem::solver;
-
-meshing::Lattice square_lattice(double r, int cells) {
-  meshing::Outline o;
-  meshing::BodyOutline b;
-  b.name = "patch";
-  b.where = "patch";
-  const double L = cells * 2 * r;
-  meshing::Loop loop;
-  loop.points = {{0, 0}, {L, 0}, {L, L}, {0, L}};
-  loop.edge_set.assign(4, -1);
-  loop.edge_straight.assign(4, 1);
-  b.outers.push_back(loop);
-  o.bodies.push_back(b);
-  meshing::GeneratorOptions go;
-  go.lattice.radius = r;
-  return meshing::generate_lattice(o, go);
-}
 
 /// Effective stiffness [c11, c12, c22, c66] measured from the Love-Weber stress at the centre
 /// disk under three strain states; also returns the largest interior force relative to the
@@ -42,7 +26,7 @@ struct Measured {
 
 Measured measure(const Material& mat, Geometry geometry, ShearModel model) {
   const double r = 0.5e-3;
-  const meshing::Lattice lat = square_lattice(r, 30);
+  const meshing::Lattice lat = hexdem::testing::square_patch(r, 30);
   std::vector<BodyMaterial> bm(1);
   bm[0].material = &mat;
   bm[0].springs = spring_constants(mat.stiffness(geometry));
