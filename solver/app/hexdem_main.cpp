@@ -27,6 +27,7 @@
 
 #include "hexdem/error.hpp"
 #include "hexdem/meshing/lattice_generator.hpp"
+#include "hexdem/meshing/lattice_jitter.hpp"
 #include "hexdem/meshing/lattice_vtu.hpp"
 #include "hexdem/meshing/outline_dxf.hpp"
 #include "hexdem/meshing/outline_toml.hpp"
@@ -55,6 +56,8 @@ struct MeshArgs {
   int threads = 0;
   int compression = 1;
   std::int64_t max_disks = meshing::kDefaultMaxDisks;
+  double jitter = 0.0;           ///< --jitter: as [mesh] jitter
+  std::int64_t jitter_seed = 1;  ///< --jitter-seed: as [mesh] jitter_seed
 };
 
 /// Most OpenMP threads `-j` accepts: libgomp fails (and crashes) creating a hundred thousand.
@@ -180,7 +183,8 @@ int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
   go.mode = a.axisymmetric ? meshing::GeometryMode::Axisymmetric : meshing::GeometryMode::Plane;
   go.max_disks = a.max_disks;
   meshing::GeneratorReport rep;
-  const meshing::Lattice lattice = meshing::generate_lattice(outline, go, &rep);
+  meshing::Lattice lattice = meshing::generate_lattice(outline, go, &rep);
+  const std::int64_t jittered = meshing::jitter_lattice(lattice, a.jitter, static_cast<std::uint64_t>(a.jitter_seed));
   // A scale so small that the cells' areas underflow (--scale 1e-300) gives a lattice of
   // nothing: refused, as no disk fitting is.
   if (!(rep.cell_area_sum > 0) || !std::isfinite(rep.cell_area_sum))
@@ -213,6 +217,9 @@ int run_mesh(const MeshArgs& a, const CLI::App& cmd) {
     std::printf("  area        cells %.9g m^2, region %.9g m^2, error %.2e\n", rep.cell_area_sum,
                 rep.region_area, rep.area_error());
     std::printf("  smallest cell %.3f of a full hexagon\n", rep.min_cell_fraction);
+    if (a.jitter > 0)
+      std::printf("  jitter      %lld interior disks moved by up to %.6g r (seed %lld)\n", static_cast<long long>(jittered),
+                  a.jitter, static_cast<long long>(a.jitter_seed));
     std::printf("  time        generation %.3f s, total %.3f s\n", rep.seconds, total);
   }
   return kExitOk;
@@ -265,6 +272,11 @@ int main(int argc, char** argv) {
   mesh_cmd->add_option("--max-disks", mesh.max_disks,
                        "Refuse outlines estimated to need more disks (default 100000000)")
       ->check(kWholeNumberAtLeastOne);
+  mesh_cmd->add_option("--jitter", mesh.jitter,
+                       "Move the interior disks off their sites by up to this fraction of r, 0 to 0.3 (as [mesh] jitter)")
+      ->check(CLI::Range(0.0, meshing::kMaxJitter));
+  mesh_cmd->add_option("--jitter-seed", mesh.jitter_seed, "The jitter's random stream (as [mesh] jitter_seed; default 1)")
+      ->check(CLI::Range(std::int64_t{0}, INT64_MAX));
   mesh_cmd->add_option("--compression-level", mesh.compression, "zlib level 0-9 for the .vtu")
       ->check(CLI::Range(0, 9));
   mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "Print nothing on success");

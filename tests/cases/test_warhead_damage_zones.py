@@ -4,9 +4,12 @@ after case_warhead_reduced_run).
 
     test_warhead_damage_zones.py RUN_DIR
 
-1. The run's lattice is at 0 degrees, so its bonds lie at 90 and 30 degrees from the axis: every
-   broken bond must be counted at one of those directions, and the directions must add up to
-   the broken bonds of the zones (tension and shear or compression, back and front).
+1. The run's lattice is at 0 degrees with the case's jitter (interior disks moved by up to
+   0.25 r), so its bonds lie near 90 and 30 degrees from the axis, turned by up to about 18
+   degrees: every broken bond must be counted within 20 degrees of one of those directions, the
+   counts must spread over more than ten whole degrees (the jitter is there), and the
+   directions must add up to the broken bonds of the zones (tension and shear or compression,
+   back and front).
 2. The zones' broken bonds, counted here independently from the frame's state and body arrays,
    equal the tool's: the disc's bonds broken in tension (state 2) and in shear or compression
    (3, 4), below and above 12 mm from the back face, leaving out the clamped rim.
@@ -33,8 +36,10 @@ failures = []
 row, _ = damage_zones.member_zones(run)
 zones = row["tension_back"] + row["tension_front"] + row["shear_back"] + row["shear_front"]
 directions = row["broken_by_direction"]
-if set(directions) - {30, 90}:
-    failures.append("a 0-degree lattice has bonds at 30 and 90 degrees from the axis, got %s" % directions)
+if any(min(abs(d - 30), abs(d - 90)) > 20 for d in directions):
+    failures.append("a 0-degree lattice has bonds within 20 degrees of 30 and 90 from the axis, got %s" % directions)
+if len(directions) <= 10:
+    failures.append("the jittered lattice's broken bonds lie at only %d directions: %s" % (len(directions), directions))
 if sum(directions.values()) != zones:
     failures.append("directions add up to %d, the zones to %d" % (sum(directions.values()), zones))
 

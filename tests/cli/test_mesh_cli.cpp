@@ -72,6 +72,31 @@ TEST(MeshCli, GoodOutlinePrintsSummaryAndWritesVtu) {
   EXPECT_TRUE(r.err.empty()) << r.err;
 }
 
+// --jitter: the summary says how many disks moved, the file differs from the regular lattice's
+// and is the same for the same seed; out of range exits 2 with one line and no file.
+TEST(MeshCli, JitterMovesTheInteriorDisks) {
+  const fs::path in = write("jitter.toml", kGood);
+  const fs::path regular = work_dir() / "regular.vtu", a = work_dir() / "jitter_a.vtu", b = work_dir() / "jitter_b.vtu";
+  ASSERT_EQ(run("mesh " + in.string() + " -o " + regular.string()).code, 0);
+  const Result r = run("mesh " + in.string() + " --jitter 0.2 --jitter-seed 3 -o " + a.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("interior disks moved by up to 0.2 r (seed 3)"), std::string::npos) << r.out;
+  ASSERT_EQ(run("mesh " + in.string() + " --jitter 0.2 --jitter-seed 3 -o " + b.string()).code, 0);
+  const auto bytes = [](const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(bytes(a), bytes(b));
+  EXPECT_NE(bytes(a), bytes(regular));
+  const fs::path bad = work_dir() / "jitter_bad.vtu";
+  fs::remove(bad);
+  const Result e = run("mesh " + in.string() + " --jitter 0.5 -o " + bad.string());
+  EXPECT_EQ(e.code, 2);
+  EXPECT_EQ(count_lines(e.err), 1) << e.err;
+  EXPECT_NE(e.err.find("--jitter"), std::string::npos) << e.err;
+  EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST(MeshCli, MissingFile) {
   expect_input_error((work_dir() / "nope.toml").string(), work_dir() / "o1.vtu", {"nope.toml", "cannot open"});
 }
