@@ -271,6 +271,28 @@ TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
   EXPECT_THROW(read_checkpoint(p1, r, back), InputError);
 }
 
+TEST(Checkpoint, IrregularLatticeRoundTripsAndAnotherSeedIsRefused) {
+  // [mesh] jitter: a restart meshes the same moved disks again (the seed and the sites decide
+  // them), continues bit for bit with broken bonds touching at their rest length or 2r, and a
+  // case with another jitter seed cannot read the checkpoint.
+  const std::string text = std::string("[mesh]\njitter = 0.25\njitter_seed = 4\n") + kImpact;
+  const Case c = parse_case(text, "impact.toml", ".");
+  Solver a(c, mesh_case(c));
+  ASSERT_TRUE(a.model().touch_at_rest);
+  advance(a, 60);
+  ASSERT_GT(a.broken_bonds(), 0u);
+  RunState run;
+  const std::string p1 = temp_path("j_a.chk"), p2 = temp_path("j_b.chk");
+  write_checkpoint(p1, a, run);
+  Solver b(c, mesh_case(c));
+  RunState back;
+  read_checkpoint(p1, b, back);
+  expect_same_continuation(a, b, run, p1, p2);
+  const Case other = parse_case(std::string("[mesh]\njitter = 0.25\njitter_seed = 5\n") + kImpact, "impact.toml", ".");
+  Solver o(other, mesh_case(other));
+  EXPECT_THROW(read_checkpoint(p1, o, back), InputError);
+}
+
 TEST(Checkpoint, AnotherCaseOrLatticeIsRefused) {
   const Case c = parse_case(kImpact, "impact.toml", ".");
   Solver a(c, mesh_case(c));
