@@ -250,47 +250,40 @@ TEST(Checkpoint, SmearedDamageRoundTripsAndContinuesBitIdentically) {
   restore_and_continue(c, lattice, a, "sd");
 }
 
-TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
-  // The disks along a Hilbert curve ([mesh] order): the checkpoint holds the renumbered state,
-  // a restart meshes the same order again, and the rows-ordered case cannot read it.
-  const std::string text = std::string("[mesh]\norder = \"hilbert\"\n") + kImpact;
-  const Case c = parse_case(text, "impact.toml", ".");
-  ASSERT_EQ(c.disk_order, meshing::DiskOrder::Hilbert);
-  Solver a(c, mesh_case(c));
+/// Runs `c` 60 steps of the impact (bonds broken), checks that its checkpoint continues bit for
+/// bit in a new solver of the same case (meshed again), and that the case `other` cannot read it.
+void round_trip_then_refuse(const Case& c, Solver& a, const Case& other, const std::string& tag) {
   advance(a, 60);
   ASSERT_GT(a.broken_bonds(), 0u);
   RunState run;
-  const std::string p1 = temp_path("h_a.chk"), p2 = temp_path("h_b.chk");
+  const std::string p1 = temp_path(tag + "_a.chk"), p2 = temp_path(tag + "_b.chk");
   write_checkpoint(p1, a, run);
   Solver b(c, mesh_case(c));
   RunState back;
   read_checkpoint(p1, b, back);
   expect_same_continuation(a, b, run, p1, p2);
-  const Case rows = parse_case(kImpact, "impact.toml", ".");
-  Solver r(rows, mesh_case(rows));
-  EXPECT_THROW(read_checkpoint(p1, r, back), InputError);
+  Solver o(other, mesh_case(other));
+  EXPECT_THROW(read_checkpoint(p1, o, back), InputError);
+}
+
+TEST(Checkpoint, HilbertOrderedRunRoundTripsAndIsNotTheRowsRun) {
+  // The disks along a Hilbert curve ([mesh] order): the checkpoint holds the renumbered state,
+  // a restart meshes the same order again, and the rows-ordered case cannot read it.
+  const Case c = parse_case(std::string("[mesh]\norder = \"hilbert\"\n") + kImpact, "impact.toml", ".");
+  ASSERT_EQ(c.disk_order, meshing::DiskOrder::Hilbert);
+  Solver a(c, mesh_case(c));
+  round_trip_then_refuse(c, a, parse_case(kImpact, "impact.toml", "."), "h");
 }
 
 TEST(Checkpoint, IrregularLatticeRoundTripsAndAnotherSeedIsRefused) {
   // [mesh] jitter: a restart meshes the same moved disks again (the seed and the sites decide
   // them), continues bit for bit with broken bonds touching at their rest length or 2r, and a
   // case with another jitter seed cannot read the checkpoint.
-  const std::string text = std::string("[mesh]\njitter = 0.25\njitter_seed = 4\n") + kImpact;
-  const Case c = parse_case(text, "impact.toml", ".");
+  const Case c = parse_case(std::string("[mesh]\njitter = 0.25\njitter_seed = 4\n") + kImpact, "impact.toml", ".");
   Solver a(c, mesh_case(c));
   ASSERT_TRUE(a.model().touch_at_rest);
-  advance(a, 60);
-  ASSERT_GT(a.broken_bonds(), 0u);
-  RunState run;
-  const std::string p1 = temp_path("j_a.chk"), p2 = temp_path("j_b.chk");
-  write_checkpoint(p1, a, run);
-  Solver b(c, mesh_case(c));
-  RunState back;
-  read_checkpoint(p1, b, back);
-  expect_same_continuation(a, b, run, p1, p2);
-  const Case other = parse_case(std::string("[mesh]\njitter = 0.25\njitter_seed = 5\n") + kImpact, "impact.toml", ".");
-  Solver o(other, mesh_case(other));
-  EXPECT_THROW(read_checkpoint(p1, o, back), InputError);
+  round_trip_then_refuse(c, a, parse_case(std::string("[mesh]\njitter = 0.25\njitter_seed = 5\n") + kImpact, "impact.toml", "."),
+                         "j");
 }
 
 TEST(Checkpoint, AnotherCaseOrLatticeIsRefused) {
