@@ -261,8 +261,8 @@ constexpr std::array<Key<MeshSettings>, 9> kMeshKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& m) {
        m.jitter = in.number(v, p);
        if (!(m.jitter >= 0.0 && m.jitter <= meshing::kMaxJitter))
-         in.fail(v, p, "must lie in [0, 0.3] (a fraction of the disk radius) (got " +
-                           describe(v) + ")");
+         in.fail(v, p, "must lie in [0, " + format_number(meshing::kMaxJitter) +
+                           "] (a fraction of the disk radius) (got " + describe(v) + ")");
      }},
     {"jitter_seed", false,
      [](const auto& in, const auto& v, const auto& p, auto& m) { m.jitter_seed = in.integer(v, p, 0, INT64_MAX); }},
