@@ -5,12 +5,13 @@
     /usr/bin/python3 cases/warhead/lattice_study.py HEXDEM OUT_DIR [--speeds 100 50]
         [--angles 0 10 20 30] [--radii 0.5e-3 0.35e-3] [--seeds 1] [--threads 2]
         [--json FILE] [--reduced] [--control none|broken] [--perturb N] [--delta D]
-        [--set KEY=VALUE ...]
+        [--set KEY=VALUE ...] [--rotate both|target|warhead]
 
 Runs every member (speed x angle x radius x seed) with `hexdem run` and `--set` overrides of
 the shipped case files (case.toml at 100 m/s, case_50.toml at 50 m/s, case_25.toml at 25 m/s;
 with --reduced, case_ctest.toml at 100 m/s: r = 1 mm, 150 us, the ctest's size):
-`mesh.angle` (both bodies), `mesh.radius`, and `random.seed` with `mesh.jitter_seed` (a
+`mesh.angle` (both bodies; with `--rotate target` or `--rotate warhead` only that body, the
+other keeps the angle 0 through its outline's body `angle`), `mesh.radius`, and `random.seed` with `mesh.jitter_seed` (a
 member's seed sets its strength field and, with `--set mesh.jitter=F`, its irregular lattice), and any `--set KEY=VALUE` given
 here for every member (e.g. `--set material.concrete.nonlocal_radius=4e-3`). `--control none`
 runs the study without fracture or plasticity (the concrete's strengths 1e12 Pa, the steel's
@@ -62,14 +63,22 @@ CASES = {100: "case.toml", 50: "case_50.toml", 25: "case_25.toml"}
 REDUCED = {100: "case_ctest.toml"}
 
 
-def outline_for(case, overrides, work, hexdem):
+def outline_for(case, overrides, work, hexdem, rotate="both"):
     """The case's outline with the disc's rim at the first of 200, 200.2, ..., 201.4 mm where
     `hexdem check` accepts the case (a rotated lattice may have no disk centre within r of
-    the rim at 200 mm, and a set that selects no disk is refused)."""
+    the rim at 200 mm, and a set that selects no disk is refused). `rotate` names the body
+    that `mesh.angle` turns ("both", "target" or "warhead"): the other body is given its own
+    `angle = 0`, which the outline format puts before the case's angle."""
     with open(os.path.join(HERE, "outline.toml")) as f:
         text = f.read()
     if "max = [200, 0]" not in text:
         sys.exit("lattice_study.py: outline.toml: the disc's rim 'max = [200, 0]' not found")
+    if rotate != "both":
+        fixed = {"target": "warhead", "warhead": "target"}[rotate]
+        line = 'name = "%s"\n' % fixed
+        if text.count(line) != 1:
+            sys.exit("lattice_study.py: outline.toml: the body line '%s' not found once" % line.strip())
+        text = text.replace(line, line + "angle = 0\n")
     why = ""
     for k in range(8):
         rim = 200.0 + 0.2 * k
@@ -99,7 +108,7 @@ def run_member(args, speed, angle, radius, seed, k=0):
         overrides += ["--set", "initial_velocity.warhead.velocity=[0, %.17g]" % (-speed * (1 + k * args.delta))]
     for extra in CONTROLS.get(args.control, []) + args.set:
         overrides += ["--set", extra]
-    outline, rim = outline_for(case, overrides, work, args.hexdem)
+    outline, rim = outline_for(case, overrides, work, args.hexdem, args.rotate)
     if outline is None:
         return tag, None, "hexdem check refused every rim position: %s" % rim
     r, _, why = run_and_analyse(args.hexdem, case, work, args.threads,
@@ -220,6 +229,8 @@ def main(argv):
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="a further `hexdem run --set` override for every member (repeatable)")
     parser.add_argument("--reduced", action="store_true", help="case_ctest.toml (100 m/s only)")
+    parser.add_argument("--rotate", choices=["both", "target", "warhead"], default="both",
+                        help="the body that --angles turns; the other stays at 0 degrees (default both)")
     parser.add_argument("--control", choices=sorted(CONTROLS),
                         help="none: no fracture or plasticity; broken: the disc's bonds broken by the stress waves")
     args = parser.parse_args(argv)
@@ -288,7 +299,7 @@ def main(argv):
     ensembles = ensemble_tables(args, members) if args.perturb > 0 else []
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"control": args.control, "members": members, "groups": groups, "ensembles": ensembles,
+            json.dump({"control": args.control, "rotate": args.rotate, "members": members, "groups": groups, "ensembles": ensembles,
                        "failed": failed}, f, indent=1)
     for tag, why in failed:
         sys.stderr.write("lattice_study.py: %s: %s\n" % (tag, why))

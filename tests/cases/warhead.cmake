@@ -40,6 +40,14 @@ if(NOT HEXDEM_SANITIZE)
             $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_irregular_angles)
   set_tests_properties(case_warhead_irregular_angles_reduced PROPERTIES
     LABELS "validation" TIMEOUT 600 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
+  # lattice_study.py --rotate target / warhead turns one body's lattice and leaves the other's
+  # (tests/cases/test_warhead_rotate_body.py): the first frames at 0 and 30 degrees compared
+  # body by body, the reduced case for 10 us on the regular lattice.
+  add_test(NAME case_warhead_rotate_body_reduced
+    COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/tests/cases/test_warhead_rotate_body.py
+            $<TARGET_FILE:hexdem> ${HEXDEM_TEST_WORK_DIR}/case_warhead_rotate_body)
+  set_tests_properties(case_warhead_rotate_body_reduced PROPERTIES
+    LABELS "validation" TIMEOUT 300 ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
   # The chaos of a fracturing impact: lattice_study.py --perturb runs each member at the speed
   # times 1 + k D and prints each angle's ensemble and the angles' means against the spread
   # within an angle; step_study.py runs ensembles at several steps (docs/validation.md,
