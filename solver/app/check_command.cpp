@@ -70,8 +70,9 @@ int run_check(const CheckArgs& a) {
               ts.dt <= ts.dt_critical ? "" : " (ABOVE the critical step: allow_unstable)");
   if (s.contacts_enabled() || !c.walls.empty())
     std::printf("  contacts: omega <= %.6g 1/s (resolution %.6g / %.6g s, the default step, "
-                "whatever the step used)\n",
-                std::sqrt(m.contact_omega2), c.contact.resolution, ts.dt_contact);
+                "whatever the step used)%s\n",
+                std::sqrt(m.contact_omega2), c.contact.resolution, ts.dt_contact,
+                m.whole_cell_cap ? ", the cap reckoned with the disks' whole cells ([contact] cap_mass)" : "");
   const std::size_t estimated = s.finite_estimate_disks();
   if (estimated < m.num_disks())
     std::printf("  finite model: Lanczos on the edge band, %zu of %zu disks (%d iterations)\n", estimated, m.num_disks(),

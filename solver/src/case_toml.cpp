@@ -170,6 +170,7 @@ constexpr Choices<Geometry, 3> kGeometries{{{"plane-stress", Geometry::PlaneStre
                                             {"axisymmetric", Geometry::Axisymmetric}}};
 constexpr Choices<ShearModel, 2> kShearModels{
     {{"local-strain", ShearModel::LocalStrain}, {"rotation", ShearModel::Rotation}}};
+constexpr Choices<CapMass, 2> kCapMasses{{{"disk", CapMass::Disk}, {"whole_cell", CapMass::WholeCell}}};
 constexpr Choices<meshing::DiskOrder, 2> kDiskOrders{
     {{"rows", meshing::DiskOrder::Rows}, {"hilbert", meshing::DiskOrder::Hilbert}}};
 constexpr Choices<PlasticityModel, 4> kPlasticityModels{{{"auto", PlasticityModel::Auto},
@@ -482,7 +483,7 @@ constexpr std::array<Key<Wall>, 3> kWallKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& w) { w.friction = in.non_negative(v, p); }},
 }};
 
-constexpr std::array<Key<ContactControl>, 2> kContactKeys{{
+constexpr std::array<Key<ContactControl>, 3> kContactKeys{{
     {"damping", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.damping = in.non_negative(v, p);
@@ -493,6 +494,8 @@ constexpr std::array<Key<ContactControl>, 2> kContactKeys{{
        o.resolution = in.positive(v, p);
        if (!(o.resolution <= 0.9)) in.fail(v, p, "must lie in (0, 0.9] (omega dt of a contact, got " + describe(v) + ")");
      }},
+    {"cap_mass", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) { o.cap_mass = in.choice(v, p, kCapMasses); }},
 }};
 
 constexpr std::array<Key<RandomField>, 4> kRandomKeys{{

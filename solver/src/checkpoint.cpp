@@ -113,6 +113,7 @@ void visit_model(M& m, V& v) {
   v.state("any_breakable", m.any_breakable);
   v.state("contact_damping", m.contact_damping);
   v.state("contact_omega2", m.contact_omega2);
+  v.rebuilt("whole_cell_cap", m.whole_cell_cap);  // from [contact] cap_mass
   v.state("time", m.time);
   v.state("f_yield", m.bond_plastic.f_yield);
   v.state("kh_n", m.bond_plastic.kh_n); v.state("kh_s", m.bond_plastic.kh_s);

@@ -504,10 +504,12 @@ inline double shear_factor(const Model& m, std::size_t b) {
   return f.crack != Model::kNoCrack ? 1 - f.damage : 1.0;
 }
 
-/// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2.
+/// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2, m_eff of
+/// the two disks' cap masses (Model::cap_mass).
 inline double contact_cap(const Model& m, std::size_t b) {
   const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-  return m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]) * m.contact_omega2;
+  const double mi = m.cap_mass(i), mj = m.cap_mass(j);
+  return mi * mj / (mi + mj) * m.contact_omega2;
 }
 
 /// Normal stiffness of broken bond b acting as a contact [N/m]: its normal spring, capped.

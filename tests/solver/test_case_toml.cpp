@@ -677,6 +677,19 @@ TEST(CaseToml, MeshJitter) {
   EXPECT_NE(parse_error(parts.text()).find(": mesh.jitter_seed: "), std::string::npos) << parse_error(parts.text());
 }
 
+TEST(CaseToml, ContactCapMass) {
+  Parts parts;
+  EXPECT_EQ(parse(parts.text()).contact.cap_mass, CapMass::Disk);  // the disks' own masses by default
+  parts.head += "[contact]\ncap_mass = \"whole_cell\"\n";
+  EXPECT_EQ(parse(parts.text()).contact.cap_mass, CapMass::WholeCell);
+  parts.head = "[case]\ngeometry = \"plane-stress\"\n[contact]\ncap_mass = \"cell\"\n";
+  const std::string why = parse_error(parts.text());
+  EXPECT_EQ(why.rfind("case.toml:4: contact.cap_mass: ", 0), 0U) << why;
+  EXPECT_NE(why.find("\"cell\""), std::string::npos) << why;
+  EXPECT_NE(why.find("whole_cell"), std::string::npos) << why;  // names the choices
+  EXPECT_EQ(why.find('\n'), std::string::npos) << why;         // one line
+}
+
 TEST(CaseToml, MissingTimeEnd) {
   Parts parts;
   parts.time = "\n[time]\ndt = 1e-7\n";

@@ -268,3 +268,82 @@ TEST(ContactRun, ContactsAreWrittenAsExtraCellsAfterTheBonds) {
 }
 
 }  // namespace
+
+namespace {
+
+// [contact] cap_mass = "whole_cell" (docs/model.md, "Energy at contacts"): a disk whose cell
+// the outline or the axis cuts is lighter than an interior disk, and the cap m_eff
+// contact_omega2 made its contacts softer; the cap is then reckoned with the mass of its
+// whole hexagonal cell, at most four times its own. A full-cell disk meets a quarter-cell one
+// head on (undamped): with the disks' own masses the cap gives omega^2 = contact_omega2; with
+// the whole cells' the spring is sqrt(2.5) times stiffer in omega (m_eff m / 5 against m / 2),
+// unless the contact's own spring binds first. The largest overlap is v_rel / omega, and the
+// energy is kept either way.
+struct ClippedCollision {
+  double max_overlap = 0, worst_energy_error = 0, cap_mass0 = 0, cap_mass1 = 0, mass0 = 0, mass1 = 0;
+  double omega2 = 0, kn = 0;
+};
+
+ClippedCollision clipped_collision(CapMass rule) {
+  const double r = 0.5e-3, v = 1.0;
+  Pair probe = head_on(r, 0.1 * r, v, 0.0, 0.0, 1e-6);
+  probe.c.time.dt.reset();
+  probe.lattice.cell_area[1] *= 0.25;  // a quarter of the hexagon: a corner's disk
+  const Solver s0(probe.c, probe.lattice);
+  const double omega_cap = std::sqrt(s0.model().contact_omega2);
+  const double dt = 2e-3 / omega_cap;
+  const double gap = 10 * v * dt;
+  Pair p = head_on(r, gap, v, 0.0, dt, gap / (2 * v) + 6.0 / omega_cap);
+  p.lattice.cell_area[1] *= 0.25;
+  p.c.contact.cap_mass = rule;
+  Solver s(p.c, p.lattice);
+  ClippedCollision out;
+  const Model& md = s.model();
+  out.cap_mass0 = md.cap_mass(0);
+  out.cap_mass1 = md.cap_mass(1);
+  out.mass0 = md.mass[0];
+  out.mass1 = md.mass[1];
+  out.omega2 = md.contact_omega2;
+  Material steel;
+  steel.isotropic = true;
+  steel.E = 210e9;
+  steel.nu = 0.3;
+  out.kn = 0.5 * spring_constants(steel.stiffness(Geometry::PlaneStrain)).kn1 * p.c.thickness;
+  for (std::int64_t n = 0; n <= s.total_steps(); ++n) {
+    EXPECT_TRUE(s.advance(true, [&](const Solver& sv) {
+      out.worst_energy_error = std::max(out.worst_energy_error, std::abs(sv.energy().relative_error()));
+    })) << s.blow_up().reason;
+    const double d = (md.x0[1] + md.ux[1]) - (md.x0[0] + md.ux[0]);
+    out.max_overlap = std::max(out.max_overlap, 2 * r - d);
+  }
+  return out;
+}
+
+TEST(ContactRun, TheWholeCellCapReckonsAClippedDiskWithItsWholeCell) {
+  const ClippedCollision own = clipped_collision(CapMass::Disk);
+  const ClippedCollision whole = clipped_collision(CapMass::WholeCell);
+  // The masses: the disk's own, or its whole cell's, never more than four times its own.
+  EXPECT_DOUBLE_EQ(own.cap_mass0, own.mass0);
+  EXPECT_DOUBLE_EQ(own.cap_mass1, own.mass1);
+  EXPECT_DOUBLE_EQ(whole.cap_mass0, whole.mass0) << "a full cell's disk keeps its own mass";
+  EXPECT_NEAR(whole.cap_mass1, 4.0 * whole.mass1, 1e-12 * whole.mass1) << "a quarter cell's disk";
+  EXPECT_NEAR(whole.mass1, 0.25 * whole.mass0, 1e-12 * whole.mass0);
+  // The overlaps against v_rel sqrt(m_eff / k), k = min(own spring, cap).
+  const double v_rel = 2.0;
+  const double m_eff = own.mass0 * own.mass1 / (own.mass0 + own.mass1);
+  const double m_cap = whole.cap_mass0 * whole.cap_mass1 / (whole.cap_mass0 + whole.cap_mass1);
+  const double k_own = std::min(own.kn, m_eff * own.omega2), k_whole = std::min(whole.kn, m_cap * whole.omega2);
+  const double expect_own = v_rel * std::sqrt(m_eff / k_own), expect_whole = v_rel * std::sqrt(m_eff / k_whole);
+  std::printf("quarter-cell disk: largest overlap %.4g m (own masses; expected %.4g) and %.4g m (whole cells; %.4g), "
+              "k %.4g and %.4g N/m (spring %.4g), energy error %.2g and %.2g\n",
+              own.max_overlap, expect_own, whole.max_overlap, expect_whole, k_own, k_whole, own.kn,
+              own.worst_energy_error, whole.worst_energy_error);
+  ASSERT_LT(k_own, own.kn) << "the cap must bind with the disks' own masses for the test to mean anything";
+  EXPECT_GT(k_whole, 2.0 * k_own) << "the whole cells' cap is at least 2.5 times stiffer unless the spring binds";
+  EXPECT_NEAR(own.max_overlap, expect_own, 0.01 * expect_own);
+  EXPECT_NEAR(whole.max_overlap, expect_whole, 0.01 * expect_whole);
+  EXPECT_LT(own.worst_energy_error, 1e-5);
+  EXPECT_LT(whole.worst_energy_error, 1e-5);
+}
+
+}  // namespace

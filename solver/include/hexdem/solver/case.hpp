@@ -116,12 +116,22 @@ struct Wall {
   std::string where;
 };
 
+/// The mass a contact's stiffness cap is reckoned with (ContactControl::cap_mass).
+enum class CapMass {
+  Disk,       ///< each disk's own mass
+  WholeCell,  ///< the mass of each disk's whole hexagonal cell, at most Model::kMaxCapMassFactor times its own
+};
+
 /// Contacts: broken bonds (state II) and disks of different bodies (physics.md section 8).
 struct ContactControl {
   double damping = 0;  ///< eta: fraction of critical damping of the normal dashpot, [0, 1)
   /// Contact resolution: every contact is made no stiffer than omega dt = resolution for its
   /// masses, omega = sqrt(k / m_eff) (docs/model.md, "Energy at contacts"), (0, 0.9].
   double resolution = 0.25;
+  /// The masses of the cap: a disk whose cell the outline or the axis cuts is lighter than
+  /// its neighbours, and its contacts softer; WholeCell reckons the cap with the mass of the
+  /// whole cell (docs/model.md, "Energy at contacts").
+  CapMass cap_mass = CapMass::Disk;
 };
 
 /// Spatially correlated random strength (docs/model.md, "Random strength"): every strength of

@@ -15,8 +15,10 @@
 /// HoopCracks), Model::failed_rows (what only failed bonds carry, FailedBond) and Model::j2
 /// (disk plasticity, DiskPlasticity). The disks' and bonds' own arrays are Model's.
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "hexdem/laws/failure.hpp"
@@ -321,6 +323,13 @@ struct Model {
   /// Contact stiffness cap per effective mass [1/s^2]: a contact's k_n and k_t are at most
   /// m_eff contact_omega2 (Solver::setup_contact_resolution); infinite: no cap.
   double contact_omega2 = std::numeric_limits<double>::infinity();
+  /// [contact] cap_mass = "whole_cell": the cap is reckoned with cap_mass(i), not mass[i].
+  bool whole_cell_cap = false;
+  /// The most a whole cell's mass may exceed a disk's own in the cap. The cap's omega is at
+  /// most beta / dt with beta <= 0.9 (sqrt(1 + eta^2) - eta) (Solver::setup_contact_resolution);
+  /// reckoned with masses up to 4 times the disks' own, a contact's true omega dt is at most
+  /// 2 beta, still inside the dashpot's stability bound 2 (sqrt(1 + eta^2) - eta).
+  static constexpr double kMaxCapMassFactor = 4.0;
   double time = 0;                       ///< time of the current force evaluation [s]
   BondPlasticity bond_plastic;
   std::vector<double> len_prev;          ///< length at the previous force evaluation [m]
@@ -447,6 +456,15 @@ struct Model {
   [[nodiscard]] std::int64_t initial_bonds(std::size_t i) const { return adj_offset[i + 1] - adj_offset[i]; }
   /// w of disk i: the thickness (plane) or the ring radius b (axisymmetric) [m].
   [[nodiscard]] double disk_weight(std::size_t i) const { return weight.empty() ? thickness : weight[i]; }
+  /// The mass the contact stiffness cap is reckoned with for disk i [kg; kg/rad in
+  /// axisymmetry]: its own, or with whole_cell_cap the mass of its whole hexagonal cell
+  /// (2 sqrt(3) r^2 instead of its cell's area: a disk whose cell the outline or the axis cuts),
+  /// at most kMaxCapMassFactor times its own. An interior disk's is its own.
+  [[nodiscard]] double cap_mass(std::size_t i) const {
+    if (!whole_cell_cap) return mass[i];
+    const double hexagon = 2.0 * std::numbers::sqrt3 * radius[i] * radius[i];
+    return mass[i] * std::clamp(hexagon / cell_area[i], 1.0, kMaxCapMassFactor);
+  }
   /// Moment of inertia I = m r^2 / 2 [kg m^2] (per radian in axisymmetry).
   [[nodiscard]] double disk_inertia(std::size_t i) const { return 0.5 * mass[i] * radius[i] * radius[i]; }
   [[nodiscard]] double bond_section(std::size_t b) const {
