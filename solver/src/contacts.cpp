@@ -119,7 +119,7 @@ void Solver::contact_forces(double dt) {
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
     if (!(kn > 0) || !(kt > 0)) continue;  // a contact on the axis carries nothing per radian
     const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
-    const double cap = contact_stiffness_cap(i, j);
+    const double cap = m.contact_cap(i, j);
     const laws::LinearContact law{std::min(kn, cap), std::min(kt, cap), std::min(body_mu_[bi], body_mu_[bj]),
                                   case_.contact.damping};
     const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
@@ -185,10 +185,6 @@ void Solver::wall_forces(double dt) {
 
 double Solver::contact_stiffness_cap(double m_eff) const { return m_eff * model_.contact_omega2; }
 
-double Solver::contact_stiffness_cap(std::size_t i, std::size_t j) const {
-  const double mi = model_.cap_mass(i), mj = model_.cap_mass(j);
-  return contact_stiffness_cap(mi * mj / (mi + mj));
-}
 
 double Solver::contact_energy() const {
   double e = 0;
@@ -218,7 +214,7 @@ double Solver::contact_energy() const {
                                                               : case_.thickness;
     const double kn = w * body_kn_[bi] * body_kn_[bj] / (body_kn_[bi] + body_kn_[bj]);
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
-    const double cap = contact_stiffness_cap(i, j);
+    const double cap = model_.contact_cap(i, j);
     const double delta =
         std::max(model_.radius[i] + model_.radius[j] - std::hypot(px_[j] - px_[i], py_[j] - py_[i]), 0.0);
     if (kn > 0) e += 0.5 * std::min(kn, cap) * delta * delta;

@@ -507,9 +507,7 @@ inline double shear_factor(const Model& m, std::size_t b) {
 /// Stiffness cap of broken bond b acting as a contact [N/m]: m_eff contact_omega2, m_eff of
 /// the two disks' cap masses (Model::cap_mass).
 inline double contact_cap(const Model& m, std::size_t b) {
-  const auto i = static_cast<std::size_t>(m.bi[b]), j = static_cast<std::size_t>(m.bj[b]);
-  const double mi = m.cap_mass(i), mj = m.cap_mass(j);
-  return mi * mj / (mi + mj) * m.contact_omega2;
+  return m.contact_cap(static_cast<std::size_t>(m.bi[b]), static_cast<std::size_t>(m.bj[b]));
 }
 
 /// Normal stiffness of broken bond b acting as a contact [N/m]: its normal spring, capped.

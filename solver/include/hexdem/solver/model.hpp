@@ -465,6 +465,12 @@ struct Model {
     const double hexagon = 2.0 * std::numbers::sqrt3 * radius[i] * radius[i];
     return mass[i] * std::clamp(hexagon / cell_area[i], 1.0, kMaxCapMassFactor);
   }
+  /// Stiffness cap of a contact between disks i and j [N/m]: m_eff contact_omega2, m_eff of
+  /// their cap masses (broken bonds, bodies, fragments: the one cap of forces and energy).
+  [[nodiscard]] double contact_cap(std::size_t i, std::size_t j) const {
+    const double mi = cap_mass(i), mj = cap_mass(j);
+    return mi * mj / (mi + mj) * contact_omega2;
+  }
   /// Moment of inertia I = m r^2 / 2 [kg m^2] (per radian in axisymmetry).
   [[nodiscard]] double disk_inertia(std::size_t i) const { return 0.5 * mass[i] * radius[i] * radius[i]; }
   [[nodiscard]] double bond_section(std::size_t b) const {

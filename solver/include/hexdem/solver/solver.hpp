@@ -261,8 +261,6 @@ private:
   [[nodiscard]] double contact_energy() const;
   /// m_eff contact_omega2 [N/m]: the stiffest a contact of effective mass m_eff may be.
   [[nodiscard]] double contact_stiffness_cap(double m_eff) const;
-  /// The cap of a contact between disks i and j, reckoned with their Model::cap_mass.
-  [[nodiscard]] double contact_stiffness_cap(std::size_t i, std::size_t j) const;
   /// omega^2 max of the finite model: Lanczos on the edge band where it holds the largest mode,
   /// else on the whole model (time_step.cpp); sets finite_disks_ and the iteration count.
   [[nodiscard]] double finite_estimate();
