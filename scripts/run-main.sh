@@ -19,7 +19,7 @@ hexdem=build/release/solver/hexdem
 "$hexdem" --version
 
 # The lattice of the case (the pictures in the top-level README).
-"$hexdem" mesh cases/warhead/outline.toml --axisymmetric --jitter 0.25 -o "$out/warhead_lattice.vtu"  # as the cases' [mesh] jitter
+"$hexdem" mesh cases/warhead/outline.toml --axisymmetric --jitter 0.3 -o "$out/warhead_lattice.vtu"  # as the cases' [mesh] jitter
 render() { scripts/pvbatch-xvfb.sh scripts/render_lattice.py "$@"; }
 render "$out/warhead_lattice.vtu" "$out/warhead_lattice.png" --color body
 render "$out/warhead_lattice.vtu" "$out/warhead_lattice_detail.png" --color kind --zoom 0 -0.004 0.016 0.016
