@@ -161,7 +161,7 @@ void Solver::wall_forces(double dt) {
       if (delta <= 0 && fn == 0 && fs == 0 && fv == 0) continue;
       const auto b = static_cast<std::size_t>(m.body[i]);
       const double width = axisym ? m.disk_weight(i) : case_.thickness;
-      const double cap = contact_stiffness_cap(m.cap_mass(i));
+      const double cap = m.wall_contact_cap(i);
       const double mu = wall.friction.value_or(body_materials_[b].material->friction);
       const SpringConstants& K = body_materials_[b].springs;
       const double kn = std::min(K.kn1 * width, cap);
@@ -183,9 +183,6 @@ void Solver::wall_forces(double dt) {
   }
 }
 
-double Solver::contact_stiffness_cap(double m_eff) const { return m_eff * model_.contact_omega2; }
-
-
 double Solver::contact_energy() const {
   double e = 0;
   for (std::size_t w = 0; w < case_.walls.size(); ++w) {
@@ -195,7 +192,7 @@ double Solver::contact_energy() const {
       if (fn == 0 && fs == 0 && wall_fv_[w][i] == 0) continue;
       const auto b = static_cast<std::size_t>(model_.body[i]);
       const double width = case_.geometry == Geometry::Axisymmetric ? model_.disk_weight(i) : case_.thickness;
-      const double cap = contact_stiffness_cap(model_.cap_mass(i));
+      const double cap = model_.wall_contact_cap(i);
       const SpringConstants& K = body_materials_[b].springs;
       const Wall& wall = case_.walls[w];
       const double x = model_.x0[i] + model_.ux[i], y = model_.y0[i] + model_.uy[i];

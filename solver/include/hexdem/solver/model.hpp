@@ -471,6 +471,9 @@ struct Model {
     const double mi = cap_mass(i), mj = cap_mass(j);
     return mi * mj / (mi + mj) * contact_omega2;
   }
+  /// Stiffness cap of a contact of disk i with a rigid wall [N/m]: its cap mass times
+  /// contact_omega2 (the wall is the infinite mass of the pair rule above).
+  [[nodiscard]] double wall_contact_cap(std::size_t i) const { return cap_mass(i) * contact_omega2; }
   /// Moment of inertia I = m r^2 / 2 [kg m^2] (per radian in axisymmetry).
   [[nodiscard]] double disk_inertia(std::size_t i) const { return 0.5 * mass[i] * radius[i] * radius[i]; }
   [[nodiscard]] double bond_section(std::size_t b) const {

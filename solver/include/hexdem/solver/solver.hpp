@@ -259,8 +259,6 @@ private:
   void contact_forces(double dt);
   void wall_forces(double dt);
   [[nodiscard]] double contact_energy() const;
-  /// m_eff contact_omega2 [N/m]: the stiffest a contact of effective mass m_eff may be.
-  [[nodiscard]] double contact_stiffness_cap(double m_eff) const;
   /// omega^2 max of the finite model: Lanczos on the edge band where it holds the largest mode,
   /// else on the whole model (time_step.cpp); sets finite_disks_ and the iteration count.
   [[nodiscard]] double finite_estimate();
