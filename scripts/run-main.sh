@@ -18,8 +18,14 @@ scripts/build.sh release
 hexdem=build/release/solver/hexdem
 "$hexdem" --version
 
-# The lattice of the case (the pictures in the top-level README).
-"$hexdem" mesh cases/warhead/outline.toml --axisymmetric --jitter 0.3 -o "$out/warhead_lattice.vtu"  # as the cases' [mesh] jitter
+# The lattice of the case (the pictures in the top-level README), with the case's own
+# [mesh] jitter and jitter_seed, read from case.toml so that the picture cannot drift from it.
+read -r jitter jitter_seed < <(/usr/bin/python3 -c '
+import tomllib
+m = tomllib.load(open("cases/warhead/case.toml", "rb"))["mesh"]
+print(m.get("jitter", 0), m.get("jitter_seed", 1))')
+"$hexdem" mesh cases/warhead/outline.toml --axisymmetric --jitter "$jitter" --jitter-seed "$jitter_seed" \
+  -o "$out/warhead_lattice.vtu"
 render() { scripts/pvbatch-xvfb.sh scripts/render_lattice.py "$@"; }
 render "$out/warhead_lattice.vtu" "$out/warhead_lattice.png" --color body
 render "$out/warhead_lattice.vtu" "$out/warhead_lattice_detail.png" --color kind --zoom 0 -0.004 0.016 0.016

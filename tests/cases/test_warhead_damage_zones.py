@@ -6,8 +6,9 @@ after case_warhead_reduced_run).
 
 1. The run's lattice is at 0 degrees with the case's jitter (interior disks moved by up to
    0.3 r), so its bonds lie near 90 and 30 degrees from the axis, turned by at most
-   asin(0.3) = 17.5 degrees: every broken bond must be counted within 20 degrees of one of those directions, the
-   counts must spread over more than ten whole degrees (the jitter is there), and the
+   asin(0.3) = 17.5 degrees: every broken bond must be counted within 20 degrees of one of
+   those directions, the counts must spread over more than ten whole degrees (the jitter is
+   there), and the
    directions must add up to the broken bonds of the zones (tension and shear or compression,
    back and front).
 2. The zones' broken bonds, counted here independently from the frame's state and body arrays,
