@@ -17,7 +17,7 @@
 // by side (the velocity update: masses, velocities, their previous values, forces, moments)
 // evicts its own lines and stalls on loads that alias stores 4 KiB apart. At 1,000,000 disks
 // the rotation model's step ran at 1.21e7 particle-steps/s with the arrays aligned and
-// 1.95e7 staggered, the local-strain model's at 6.1e6 and 7.9e6 (docs/benchmarks.md,
+// 2.13e7 staggered, the local-strain model's at 6.1e6 and 7.9e6 (docs/benchmarks.md,
 // "Staggered arrays"). A staggered block keeps its true start and a check word in the 16
 // bytes before the address it hands out, which operator delete reads back.
 // HEXDEM_STAGGER=0 in the environment turns it off (for comparisons).
