@@ -28,7 +28,11 @@ chaotic (docs/validation.md, "Convergence in the time step"), and a member's res
 and cone are one draw of it; the study then also prints, per speed and radius, the mean and
 standard deviation at each angle (residual velocity, cone, broken bonds and the booked fracture
 energy) and the largest deviation of the angles' means from their mean, to be set against the
-standard deviation within an angle. Each member is analysed by
+standard deviation within an angle. With a step of a few per cent (`--perturb 2 --delta 0.1`:
+0.8, 0.9, 1, 1.1 and 1.2 times the speed) the runs are a speed sweep, and the study also prints,
+per angle, how many members perforated at each impact speed and, per seed, the ballistic
+limit's bracket: the fastest member that did not perforate and the slowest that did (the JSON's
+`perforation`). Each member is analysed by
 analyse.py; the study prints one row per member and, per speed and radius, the mean and the
 largest deviation from the mean of the residual velocity and the cone half-angle, and, with
 several seeds, their spread over the seeds at each angle. Exit 0 when every member ran and
@@ -213,6 +217,67 @@ def ensemble_tables(args, members):
     return out
 
 
+def impact_speed(args, m):
+    """The member's impact speed [m/s]: the case's speed times 1 + k D."""
+    return m["speed"] * (1 + m.get("k", 0) * args.delta)
+
+
+def limit_bracket(args, group):
+    """The ballistic limit's bracket of one seed's members (one per k): the fastest member that
+    did not perforate and the slowest that did (None where there is none); `ordered` is false
+    when a slower member perforated and a faster one did not."""
+    below = [impact_speed(args, m) for m in group if m["outcome"] != "perforation"]
+    above = [impact_speed(args, m) for m in group if m["outcome"] == "perforation"]
+    low = max(below) if below else None
+    high = min(above) if above else None
+    return {"low": low, "high": high, "ordered": low is None or high is None or low < high}
+
+
+def bracket_text(b):
+    if b["low"] is None and b["high"] is None:
+        return "none"
+    if b["high"] is None:
+        return "above %.4g" % b["low"]
+    if b["low"] is None:
+        return "below %.4g" % b["high"]
+    if not b["ordered"]:
+        return "not ordered (%.4g perforated, %.4g did not)" % (b["high"], b["low"])
+    return "%.4g-%.4g" % (b["low"], b["high"])
+
+
+def perforation_table(args, members):
+    """--perturb with a speed step (D of a few %): per speed, radius and angle, how many members
+    perforated at each impact speed v (1 + k D), and per seed the ballistic limit's bracket
+    (docs/validation.md, "The ballistic limit over the lattice angles")."""
+    ks = list(range(-args.perturb, args.perturb + 1))
+    out = []
+    print()
+    print("Perforation by impact speed (members that perforated of those run; per seed, the ballistic limit "
+          "lies between the fastest member that did not perforate and the slowest that did):")
+    for speed in args.speeds:
+        speeds = [speed * (1 + k * args.delta) for k in ks]
+        print()
+        print("| v [m/s] | r [mm] | angle | " + " | ".join("%.4g m/s" % v for v in speeds) + " | limit per seed [m/s] |")
+        print("|---|---|---|" + "---|" * len(speeds) + "---|")
+        for radius in args.radii:
+            for angle in args.angles:
+                g = [m for m in members if (m["speed"], m["radius"], m["angle"]) == (speed, radius, angle)]
+                if not g:
+                    continue
+                counts = []
+                for k in ks:
+                    sel = [m for m in g if m.get("k", 0) == k]
+                    counts.append([sum(m["outcome"] == "perforation" for m in sel), len(sel)])
+                brackets = {seed: limit_bracket(args, [m for m in g if m["seed"] == seed])
+                            for seed in sorted(set(m["seed"] for m in g))}
+                print("| %d | %g | %g | %s | %s |" % (
+                    speed, radius * 1e3, angle, " | ".join("%d/%d" % (c[0], c[1]) for c in counts),
+                    "; ".join("%d: %s" % (seed, bracket_text(b)) for seed, b in brackets.items())))
+                out.append({"speed": speed, "radius": radius, "angle": angle, "impact_speeds": speeds,
+                            "perforated": counts, "brackets": {str(k): b for k, b in brackets.items()}})
+    return out
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("hexdem")
@@ -297,10 +362,11 @@ def main(argv):
                         speed, radius * 1e3, angle, max(rv) - min(rv),
                         "%.1f deg (%d of %d with a cone)" % (max(ca) - min(ca), len(ca), len(g)) if ca else "none"))
     ensembles = ensemble_tables(args, members) if args.perturb > 0 else []
+    perforation = perforation_table(args, members) if args.perturb > 0 else []
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"control": args.control, "rotate": args.rotate, "members": members, "groups": groups, "ensembles": ensembles,
-                       "failed": failed}, f, indent=1)
+                       "perforation": perforation, "failed": failed}, f, indent=1)
     for tag, why in failed:
         sys.stderr.write("lattice_study.py: %s: %s\n" % (tag, why))
     warned = [m for m in members if m.get("run_warning")]

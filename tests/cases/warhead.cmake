@@ -19,6 +19,12 @@ if(NOT HEXDEM_SANITIZE)
     LABELS "validation" TIMEOUT 120 FIXTURES_REQUIRED case_warhead_reduced
     ENVIRONMENT "PYTHONPATH=${HEXDEM_PYTHONPATH}")
 endif()
+# lattice_study.py's perforation table (--perturb as a speed sweep: counts per impact speed,
+# each seed's bracket of the ballistic limit) on made-up members: no run.
+add_test(NAME case_warhead_perforation_table
+  COMMAND ${HEXDEM_SYSTEM_PYTHON} ${PROJECT_SOURCE_DIR}/tests/cases/test_warhead_perforation_table.py)
+set_tests_properties(case_warhead_perforation_table PROPERTIES LABELS "fast"
+  PASS_REGULAR_EXPRESSION "perforation table: ok")
 # The lattice study's driver (cases/warhead/lattice_study.py) on the reduced case at 0 and 30
 # degrees (the rim of the rotated disc moved until its clamped set selects disks): every
 # member must run and be analysed.
