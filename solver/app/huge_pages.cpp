@@ -65,9 +65,11 @@ bool huge_pages_wanted() noexcept {
 /// the heap, where the blocks the set-up frees (the generator's work space, the critical
 /// step's band model) stay resident below the ones it keeps: 20 to 27 bytes per disk of the
 /// peak at 1,000,000 disks (docs/benchmarks.md, "Memory"). A threshold set once stays fixed.
-const bool kFixedMmapThreshold = [] { return mallopt(M_MMAP_THRESHOLD, 1 << 20) == 1; }();
+constexpr int kMmapThreshold = 1 << 20;
+const bool kFixedMmapThreshold = [] { return mallopt(M_MMAP_THRESHOLD, kMmapThreshold) == 1; }();
 
-constexpr std::size_t kStaggerThreshold = std::size_t{1} << 20;  // the mmap threshold above
+/// Blocks from their own mapping (the fixed threshold) are the ones that start page-aligned.
+constexpr auto kStaggerThreshold = static_cast<std::size_t>(kMmapThreshold);
 constexpr std::size_t kPage = 4096;
 constexpr std::size_t kLine = 64;
 constexpr std::uint64_t kStaggerMagic = 0x6865786465d3a7c5ULL;  // check word: magic ^ start
