@@ -42,6 +42,7 @@ ran but one completed with a warning (`hexdem run` exit code 3: its energy error
 """
 
 import argparse
+import math
 import json
 import os
 import subprocess
@@ -109,7 +110,7 @@ def run_member(args, speed, angle, radius, seed, k=0):
     overrides = ["--set", "mesh.angle=%g" % angle, "--set", "mesh.radius=%g" % radius,
                  "--set", "random.seed=%d" % seed, "--set", "mesh.jitter_seed=%d" % seed]
     if args.perturb > 0:
-        overrides += ["--set", "initial_velocity.warhead.velocity=[0, %.17g]" % (-speed * (1 + k * args.delta))]
+        overrides += ["--set", "initial_velocity.warhead.velocity=[0, %.17g]" % -perturbed_speed(args, speed, k)]
     for extra in CONTROLS.get(args.control, []) + args.set:
         overrides += ["--set", extra]
     outline, rim = outline_for(case, overrides, work, args.hexdem, args.rotate)
@@ -219,7 +220,37 @@ def ensemble_tables(args, members):
 
 def impact_speed(args, m):
     """The member's impact speed [m/s]: the case's speed times 1 + k D."""
-    return m["speed"] * (1 + m.get("k", 0) * args.delta)
+    return perturbed_speed(args, m["speed"], m.get("k", 0))
+
+
+def perturbed_speed(args, speed, k):
+    """Speed times 1 + k D [m/s] (--perturb, --delta)."""
+    return speed * (1 + k * args.delta)
+
+
+def logistic_limit(points):
+    """Maximum-likelihood fit of P(perforation) = 1 / (1 + exp(-(v - v50) / s)) to (v, perforated)
+    pairs, on a grid (v50 in steps of 0.05 m/s over the speeds run, +-5 m/s; s from 0.1 to 20 m/s);
+    None where the members do not bracket a limit (all or none perforated)."""
+    hits = [p for _, p in points]
+    if all(hits) or not any(hits):
+        return None
+    lo = min(v for v, _ in points) - 5
+    hi = max(v for v, _ in points) + 5
+    best = None
+    for i in range(int(round((hi - lo) / 0.05)) + 1):
+        v50 = lo + 0.05 * i
+        for j in range(61):
+            s = 0.1 * 200 ** (j / 60)
+            ll = 0.0
+            for v, p in points:
+                z = max(-700.0, min(700.0, (v - v50) / s))
+                q = 1 / (1 + math.exp(-z))
+                q = min(max(q, 1e-12), 1 - 1e-12)
+                ll += math.log(q if p else 1 - q)
+            if best is None or ll > best[0]:
+                best = (ll, v50)
+    return best[1]
 
 
 def limit_bracket(args, group):
@@ -255,10 +286,11 @@ def perforation_table(args, members):
     print("Perforation by impact speed (members that perforated of those run; per seed, the ballistic limit "
           "lies between the fastest member that did not perforate and the slowest that did):")
     for speed in args.speeds:
-        speeds = [speed * (1 + k * args.delta) for k in ks]
+        speeds = [perturbed_speed(args, speed, k) for k in ks]
         print()
-        print("| v [m/s] | r [mm] | angle | " + " | ".join("%.4g m/s" % v for v in speeds) + " | limit per seed [m/s] |")
-        print("|---|---|---|" + "---|" * len(speeds) + "---|")
+        print("| v [m/s] | r [mm] | angle | " + " | ".join("%.4g m/s" % v for v in speeds)
+              + " | limit per seed [m/s] | logistic fit of the limit [m/s] |")
+        print("|---|---|---|" + "---|" * len(speeds) + "---|---|")
         for radius in args.radii:
             for angle in args.angles:
                 g = [m for m in members if (m["speed"], m["radius"], m["angle"]) == (speed, radius, angle)]
@@ -270,11 +302,14 @@ def perforation_table(args, members):
                     counts.append([sum(m["outcome"] == "perforation" for m in sel), len(sel)])
                 brackets = {seed: limit_bracket(args, [m for m in g if m["seed"] == seed])
                             for seed in sorted(set(m["seed"] for m in g))}
-                print("| %d | %g | %g | %s | %s |" % (
+                fit = logistic_limit([(impact_speed(args, m), m["outcome"] == "perforation") for m in g])
+                print("| %d | %g | %g | %s | %s | %s |" % (
                     speed, radius * 1e3, angle, " | ".join("%d/%d" % (c[0], c[1]) for c in counts),
-                    "; ".join("%d: %s" % (seed, bracket_text(b)) for seed, b in brackets.items())))
+                    "; ".join("%d: %s" % (seed, bracket_text(b)) for seed, b in brackets.items()),
+                    "%.1f" % fit if fit is not None else "none"))
                 out.append({"speed": speed, "radius": radius, "angle": angle, "impact_speeds": speeds,
-                            "perforated": counts, "brackets": {str(k): b for k, b in brackets.items()}})
+                            "perforated": counts, "brackets": {str(k): b for k, b in brackets.items()},
+                            "logistic_limit": fit})
     return out
 
 

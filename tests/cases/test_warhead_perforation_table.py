@@ -49,7 +49,15 @@ def main():
             failures.append("seed 3's bracket: %s" % b["3"])
         if rows[1]["brackets"]["1"]["ordered"]:
             failures.append("a slower perforation below a faster stop must be reported as not ordered")
-    for expected in ("| 50 | 0.5 | 0 | 1/3 | 1/3 | 1/3 | 2/3 | 2/3 | 1: 50-55; 2: below 40; 3: above 60 |",
+    # The logistic fit: symmetric data put the limit half-way; no fit without a bracket.
+    fit = study.logistic_limit([(45.0, False), (45.0, False), (50.0, False), (50.0, True), (55.0, True), (55.0, True)])
+    if fit is None or abs(fit - 50.0) > 0.05:
+        failures.append("logistic fit of symmetric data: %s (50 expected)" % fit)
+    if study.logistic_limit([(45.0, True), (50.0, True)]) is not None:
+        failures.append("a fit where every member perforated")
+    if rows and rows[0].get("logistic_limit") is None:
+        failures.append("the 0-degree row has no logistic fit")
+    for expected in ("| 50 | 0.5 | 0 | 1/3 | 1/3 | 1/3 | 2/3 | 2/3 | 1: 50-55; 2: below 40; 3: above 60 | ",
                      "1: not ordered (45 perforated, 55 did not)", "| 40 m/s | 45 m/s | 50 m/s | 55 m/s | 60 m/s |"):
         if expected not in text:
             failures.append("missing from the table: %r" % expected)
