@@ -40,6 +40,9 @@ int run_check(const CheckArgs& a) {
   if (c.mesh_jitter > 0)
     std::printf("  irregular lattice: interior disks moved by up to %.6g r ([mesh] jitter, jitter_seed %lld)\n",
                 c.mesh_jitter, static_cast<long long>(c.mesh_jitter_seed));
+  if (c.contact.radius_spread > 0)
+    std::printf("  contact radii: interior disks touch at r (1 +- %.6g) ([contact] radius_spread, jitter_seed %lld)\n",
+                c.contact.radius_spread, static_cast<long long>(c.mesh_jitter_seed));
   std::vector<std::size_t> per_body(lattice.body_names.size(), 0);
   for (std::int32_t b : lattice.body) ++per_body[static_cast<std::size_t>(b)];
   for (std::size_t b = 0; b < lattice.body_names.size(); ++b) {

@@ -483,7 +483,7 @@ constexpr std::array<Key<Wall>, 3> kWallKeys{{
      [](const auto& in, const auto& v, const auto& p, auto& w) { w.friction = in.non_negative(v, p); }},
 }};
 
-constexpr std::array<Key<ContactControl>, 3> kContactKeys{{
+constexpr std::array<Key<ContactControl>, 4> kContactKeys{{
     {"damping", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) {
        o.damping = in.non_negative(v, p);
@@ -496,6 +496,13 @@ constexpr std::array<Key<ContactControl>, 3> kContactKeys{{
      }},
     {"cap_mass", false,
      [](const auto& in, const auto& v, const auto& p, auto& o) { o.cap_mass = in.choice(v, p, kCapMasses); }},
+    {"radius_spread", false,
+     [](const auto& in, const auto& v, const auto& p, auto& o) {
+       o.radius_spread = in.number(v, p);
+       if (!(o.radius_spread >= 0.0 && o.radius_spread <= meshing::kMaxRadiusSpread))
+         in.fail(v, p, "must lie in [0, " + format_number(meshing::kMaxRadiusSpread) +
+                           "] (a fraction of the disk radius) (got " + describe(v) + ")");
+     }},
 }};
 
 constexpr std::array<Key<RandomField>, 4> kRandomKeys{{

@@ -56,6 +56,7 @@ void visit_model(M& m, V& v) {
   v.state("ext_mxx", m.ext_mxx); v.state("ext_myy", m.ext_myy); v.state("ext_mxy", m.ext_mxy);
   v.state("mass", m.mass);
   v.state("radius", m.radius);
+  v.rebuilt("contact_radius", m.contact_radius);  // from the lattice and [contact] radius_spread
   v.state("cell_area", m.cell_area);
   v.state("weight", m.weight);
   v.state("kind", m.kind);

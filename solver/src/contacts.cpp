@@ -60,7 +60,7 @@ void Solver::setup_contacts() {
   for (std::size_t i = 0; i < n; ++i) {
     px_[i] = m.x0[i] + m.ux[i];
     py_[i] = m.y0[i] + m.uy[i];
-    r_min = std::min(r_min, m.radius[i]);
+    r_min = std::min(r_min, m.contact_r(i));
   }
   // Contact stiffness per unit thickness of each body: its springs along the lattice axis;
   // a pair uses the series (harmonic) combination of its two bodies.
@@ -70,10 +70,16 @@ void Solver::setup_contacts() {
     body_mu_.push_back(bm.material->friction);
   }
   sweep_.set_exclusion_pairs(m.bi.data(), m.bj.data(), m.num_bonds(), n);
-  sweep_.build(px_.data(), py_.data(), m.radius.data(), n, 0.2 * r_min);
+  sweep_.build(px_.data(), py_.data(), m.contact_radii(), n, 0.2 * r_min);
   for (const auto& [i, j] : sweep_.pairs()) {
     const double d = std::hypot(px_[j] - px_[i], py_[j] - py_[i]);
-    const double overlap = m.radius[i] + m.radius[j] - d;
+    const double overlap = m.contact_r(i) + m.contact_r(j) - d;
+    if (overlap > 1e-6 * r_min && m.body[i] == m.body[j] && !m.contact_radius.empty()) {
+      // Unreachable on the generator's lattices (meshing::kMaxRadiusSpread); a lattice file's may.
+      throw InputError(case_.source + ": [contact] radius_spread = " + fmt(case_.contact.radius_spread) +
+                       ": unbonded disks at (" + fmt(px_[i]) + ", " + fmt(py_[i]) + ") and (" + fmt(px_[j]) + ", " +
+                       fmt(py_[j]) + ") overlap at the start by " + fmt(overlap) + " m");
+    }
     if (overlap > 1e-6 * r_min && m.body[i] != m.body[j]) {
       throw InputError(case_.source + ": bodies '" + lattice_.body_names[m.body[i]] + "' and '" +
                        lattice_.body_names[m.body[j]] + "' overlap at the start: disks at (" + fmt(px_[i]) + ", " +
@@ -87,7 +93,7 @@ void Solver::setup_contacts() {
 void Solver::contact_forces(double dt) {
   Model& m = model_;
   const auto t0 = std::chrono::steady_clock::now();
-  const bool changed = sweep_.update(px_.data(), py_.data(), m.radius.data());
+  const bool changed = sweep_.update(px_.data(), py_.data(), m.contact_radii());
   detection_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (changed) {
     // Carry the forces of pairs that stay (both lists are sorted by (i, j)).
@@ -107,7 +113,7 @@ void Solver::contact_forces(double dt) {
     const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
     const double dx = px_[j] - px_[i], dy = py_[j] - py_[i];
     const double d = std::hypot(dx, dy);
-    const double delta = m.radius[i] + m.radius[j] - d;
+    const double delta = m.contact_r(i) + m.contact_r(j) - d;
     // Apart, with nothing left to release (f_v: the dashpot's second half step).
     if (delta <= 0 && c.f_n == 0 && c.f_s == 0 && c.f_v == 0) continue;
     const double nx = dx / d, ny = dy / d, sx = -ny, sy = nx;
@@ -123,7 +129,7 @@ void Solver::contact_forces(double dt) {
     const laws::LinearContact law{std::min(kn, cap), std::min(kt, cap), std::min(body_mu_[bi], body_mu_[bj]),
                                   case_.contact.damping};
     const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
-    const double du_s = dt * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+    const double du_s = dt * (dvx * sx + dvy * sy - (m.contact_r(i) * m.omega[i] + m.contact_r(j) * m.omega[j]));
     laws::ContactState st{c.f_n, c.f_s, c.f_v};
     const laws::ContactStep step = law.update(st, delta, -(dvx * nx + dvy * ny), du_s, law.damping_coefficient(m_eff));
     c.f_n = st.f_n;
@@ -137,8 +143,8 @@ void Solver::contact_forces(double dt) {
     m.fy[i] += fy;
     m.fx[j] -= fx;
     m.fy[j] -= fy;
-    m.torque[i] += m.radius[i] * c.f_s;
-    m.torque[j] += m.radius[j] * c.f_s;
+    m.torque[i] += m.contact_r(i) * c.f_s;
+    m.torque[j] += m.contact_r(j) * c.f_s;
   }
 }
 
@@ -154,7 +160,7 @@ void Solver::wall_forces(double dt) {
     const double ex = -nx, ey = -ny, sx = -ey, sy = ex;
     for (std::size_t i = 0; i < m.num_disks(); ++i) {
       const double x = m.x0[i] + m.ux[i], y = m.y0[i] + m.uy[i];
-      const double delta = m.radius[i] - ((x - wall.point[0]) * nx + (y - wall.point[1]) * ny);
+      const double delta = m.contact_r(i) - ((x - wall.point[0]) * nx + (y - wall.point[1]) * ny);
       double& fn = wall_fn_[w][i];
       double& fs = wall_fs_[w][i];
       double& fv = wall_fv_[w][i];
@@ -167,7 +173,7 @@ void Solver::wall_forces(double dt) {
       const double kn = std::min(K.kn1 * width, cap);
       const double kt = std::min((K.ks1 > 0 ? K.ks1 : 0.5 * K.kn1) * width, cap);
       const laws::LinearContact law{kn, kt, mu, case_.contact.damping};
-      const double du_s = dt * (-(m.vx[i] * sx + m.vy[i] * sy) - m.radius[i] * m.omega[i]);
+      const double du_s = dt * (-(m.vx[i] * sx + m.vy[i] * sy) - m.contact_r(i) * m.omega[i]);
       laws::ContactState st{fn, fs, fv};
       const laws::ContactStep step =
           law.update(st, delta, m.vx[i] * ex + m.vy[i] * ey, du_s, law.damping_coefficient(m.mass[i]));
@@ -178,7 +184,7 @@ void Solver::wall_forces(double dt) {
       contact_friction_work_ += step.friction_dissipation_mid;
       m.fx[i] += fn * ex + fs * sx;
       m.fy[i] += fn * ey + fs * sy;
-      m.torque[i] += m.radius[i] * fs;
+      m.torque[i] += m.contact_r(i) * fs;
     }
   }
 }
@@ -197,7 +203,7 @@ double Solver::contact_energy() const {
       const Wall& wall = case_.walls[w];
       const double x = model_.x0[i] + model_.ux[i], y = model_.y0[i] + model_.uy[i];
       const double delta = std::max(
-          model_.radius[i] - ((x - wall.point[0]) * wall.normal[0] + (y - wall.point[1]) * wall.normal[1]), 0.0);
+          model_.contact_r(i) - ((x - wall.point[0]) * wall.normal[0] + (y - wall.point[1]) * wall.normal[1]), 0.0);
       // The springs' energy: k_n delta^2 / 2 (f_n also holds the dashpot's force).
       e += 0.5 * std::min(K.kn1 * width, cap) * delta * delta +
            0.5 * fs * fs / std::min((K.ks1 > 0 ? K.ks1 : 0.5 * K.kn1) * width, cap);
@@ -213,7 +219,7 @@ double Solver::contact_energy() const {
     const double kt = w * body_kt_[bi] * body_kt_[bj] / (body_kt_[bi] + body_kt_[bj]);
     const double cap = model_.contact_cap(i, j);
     const double delta =
-        std::max(model_.radius[i] + model_.radius[j] - std::hypot(px_[j] - px_[i], py_[j] - py_[i]), 0.0);
+        std::max(model_.contact_r(i) + model_.contact_r(j) - std::hypot(px_[j] - px_[i], py_[j] - py_[i]), 0.0);
     if (kn > 0) e += 0.5 * std::min(kn, cap) * delta * delta;
     if (kt > 0) e += 0.5 * c.f_s * c.f_s / std::min(kt, cap);
   }

@@ -601,7 +601,7 @@ void broken_bond_contact(Model& m, std::size_t b, double len, double nx, double 
   const double dvx = m.vx[j] - m.vx[i], dvy = m.vy[j] - m.vy[i];
   const double delta = m.touch(b) - len;
   const double du_s =
-      dt_shear * (dvx * sx + dvy * sy - (m.radius[i] * m.omega[i] + m.radius[j] * m.omega[j]));
+      dt_shear * (dvx * sx + dvy * sy - (m.contact_r(i) * m.omega[i] + m.contact_r(j) * m.omega[j]));
   const laws::LinearContact law{contact_normal_stiffness(m, b), contact_tangential_stiffness(m, b), m.bond_mu(b),
                                 m.contact_damping};
   const double m_eff = m.mass[i] * m.mass[j] / (m.mass[i] + m.mass[j]);
@@ -1225,6 +1225,7 @@ void gather_forces(Model& m) {
   const double* __restrict pair_fx = m.pair_fx.data();
   const double* __restrict pair_fy = m.pair_fy.data();
   const double* __restrict radius = m.radius.data();
+  const double* __restrict contact_radius = m.contact_radii();
   double* __restrict out_fx = m.fx.data();
   double* __restrict out_fy = m.fy.data();
   double* __restrict out_tq = m.torque.data();
@@ -1233,6 +1234,9 @@ void gather_forces(Model& m) {
       const auto iu = static_cast<std::size_t>(i);
       double fx = 0, fy = 0, tq = 0;
       const double r_i = radius[i];
+      // The lever arm of a broken bond's contact: the contact radius ([contact] radius_spread).
+      double rc_i = 0;
+      if constexpr (Breakable) rc_i = contact_radius[i];
       // Disk i's terms of the strain forces (StrainTerms): its centre, its W and whether it has a fit.
       double x_i = 0, y_i = 0, wi_xx = 0, wi_xy = 0, wi_yx = 0, wi_yy = 0, co = 0;
       if constexpr (StrainTerms) {
@@ -1259,7 +1263,7 @@ void gather_forces(Model& m) {
               f_y += f_s[b] * nx;
               fx += s * f_x;
               fy += s * f_y;
-              tq += r_i * f_s[b];
+              tq += rc_i * f_s[b];
               continue;
             }
           }

@@ -65,7 +65,7 @@ bool is_frame_array(const std::string& name) {
   static const char* const names[] = {"radius",   "kind",         "body",     "material",
                                       "mass",     "cell_area",    "ring_radius", "displacement",
                                       "velocity", "rotation",     "spin",     "stress",
-                                      "damage",   "plastic_strain"};
+                                      "damage",   "plastic_strain", "contact_radius"};
   for (const char* n : names) {
     if (name == n) return true;
   }
@@ -226,6 +226,7 @@ io::LineGrid RunOutput::frame_grid(const Solver& solver, ContactCells& contacts)
     return std::pair{m.x0[i] + m.ux[i], m.y0[i] + m.uy[i]};
   });
   g.point_data.push_back(io::array_view("radius", m.radius.data(), n));
+  if (!m.contact_radius.empty()) g.point_data.push_back(io::array_view("contact_radius", m.contact_radius.data(), n));
   g.point_data.push_back(io::array_view("kind", m.kind.data(), n));
   g.point_data.push_back(io::array_view("body", m.body.data(), n));
   {

@@ -49,8 +49,12 @@ Solver::Solver(const Case& c, meshing::Lattice lattice) : case_(c), lattice_(std
     for (auto* v : {&lattice_.cell_cx, &lattice_.cell_cy}) std::vector<double>().swap(*v);
   // The model takes the lattice's disk and bond arrays (no second copy at any time); the
   // lattice keeps its names and sets, and the arrays only the build needs are released.
+  // The contact radii from the lattice as built (its positions: any disk order, any jitter).
+  std::vector<double> contact_radii = meshing::contact_radii(lattice_, case_.contact.radius_spread,
+                                                             static_cast<std::uint64_t>(case_.mesh_jitter_seed));
   model_ = build_model(std::move(lattice_), case_.geometry, case_.thickness, case_.shear_model, body_materials_);
   model_.contact_damping = case_.contact.damping;
+  model_.contact_radius = std::move(contact_radii);
   for (auto* v : {&lattice_.x, &lattice_.y, &lattice_.radius, &lattice_.cell_area, &lattice_.cell_cx, &lattice_.cell_cy,
                   &lattice_.bond_b})
     std::vector<double>().swap(*v);

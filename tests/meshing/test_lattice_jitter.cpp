@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <numbers>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -183,6 +184,72 @@ TEST(LatticeJitter, DependsOnTheSeedAndTheSitesOnly) {
   ASSERT_EQ(ax.bond_b.size(), ax.num_bonds());
   for (std::size_t k = 0; k < ax.num_bonds(); ++k)
     EXPECT_DOUBLE_EQ(ax.bond_b[k], 0.5 * (ax.x[ax.bond_i[k]] + ax.x[ax.bond_j[k]])) << k;
+}
+
+// Contact radii ([contact] radius_spread): the interior disks' spread uniformly over
+// r (1 +- s) (mean and variance of u = (rc / r - 1) / s against those of the uniform law on
+// [-1, 1): 0 and 1/3, within 4.5 standard deviations of the mean of N), every other disk keeps
+// r; the draw depends on the seed and the positions only, not on the jitter's own draw; and at
+// the largest jitter and spread no two unbonded disks overlap (every pair).
+TEST(ContactRadii, SpreadOnlyTheInteriorDisksUniformly) {
+  const double f = kMaxJitter, s = kMaxRadiusSpread, r = 0.5e-3;
+  Lattice l = plate();
+  EXPECT_TRUE(contact_radii(l, 0.0, 3).empty());
+  jitter_lattice(l, f, 3);
+  const std::vector<std::uint8_t> interior = interior_disks(l);
+  const std::vector<double> rc = contact_radii(l, s, 3);
+  ASSERT_EQ(rc.size(), l.num_disks());
+  double s_u = 0, s_u2 = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < l.num_disks(); ++i) {
+    if (!interior[i]) {
+      EXPECT_EQ(rc[i], l.radius[i]) << i;
+      continue;
+    }
+    const double u = (rc[i] / r - 1) / s;
+    EXPECT_GE(u, -1.0 - 1e-12) << i;
+    EXPECT_LT(u, 1.0 + 1e-12) << i;
+    s_u += u, s_u2 += u * u;
+    ++n;
+  }
+  ASSERT_GT(n, 2000u);
+  const double N = static_cast<double>(n);
+  EXPECT_NEAR(s_u / N, 0.0, 4.5 * std::sqrt(1.0 / 3.0 / N));
+  EXPECT_NEAR(s_u2 / N, 1.0 / 3.0, 4.5 * std::sqrt((1.0 / 5.0 - 1.0 / 9.0) / N));  // E u^4 = 1/5
+  // Independent of the jitter's draw with the same seed: no correlation of u with |move|^2.
+  const Lattice regular = plate();
+  double s_uq = 0;
+  for (std::size_t i = 0; i < l.num_disks(); ++i) {
+    if (!interior[i]) continue;
+    const double q = (std::pow(l.x[i] - regular.x[i], 2) + std::pow(l.y[i] - regular.y[i], 2)) / (f * r * f * r);
+    s_uq += (rc[i] / r - 1) / s * (q - 0.5);
+  }
+  EXPECT_NEAR(s_uq / N, 0.0, 4.5 * std::sqrt(1.0 / 3.0 / 12.0 / N));
+  // No overlap between unbonded disks at their contact radii.
+  std::set<std::pair<std::int32_t, std::int32_t>> bonded;
+  for (std::size_t b = 0; b < l.num_bonds(); ++b)
+    bonded.insert({std::min(l.bond_i[b], l.bond_j[b]), std::max(l.bond_i[b], l.bond_j[b])});
+  double min_gap = 1e9;
+  for (std::size_t i = 0; i < l.num_disks(); ++i)
+    for (std::size_t j = i + 1; j < l.num_disks(); ++j) {
+      if (bonded.count({static_cast<std::int32_t>(i), static_cast<std::int32_t>(j)})) continue;
+      min_gap = std::min(min_gap, std::hypot(l.x[j] - l.x[i], l.y[j] - l.y[i]) - rc[i] - rc[j]);
+    }
+  EXPECT_GE(min_gap, 0.0);
+}
+
+// The same seed gives the same radius to the same disk in any disk order; another seed others.
+TEST(ContactRadii, DependOnTheSeedAndThePositionsOnly) {
+  Lattice a = plate(), h = plate();
+  apply_disk_order(h, DiskOrder::Hilbert);
+  jitter_lattice(a, 0.2, 5);
+  jitter_lattice(h, 0.2, 5);
+  const std::vector<double> ra = contact_radii(a, 0.1, 5), rh = contact_radii(h, 0.1, 5), r6 = contact_radii(a, 0.1, 6);
+  std::multiset<std::tuple<double, double, double>> pa, ph;
+  for (std::size_t i = 0; i < a.num_disks(); ++i) pa.insert({a.x[i], a.y[i], ra[i]});
+  for (std::size_t i = 0; i < h.num_disks(); ++i) ph.insert({h.x[i], h.y[i], rh[i]});
+  EXPECT_TRUE(pa == ph);
+  EXPECT_NE(ra, r6);
 }
 
 }  // namespace

@@ -677,6 +677,20 @@ TEST(CaseToml, MeshJitter) {
   EXPECT_NE(parse_error(parts.text()).find(": mesh.jitter_seed: "), std::string::npos) << parse_error(parts.text());
 }
 
+TEST(CaseToml, ContactRadiusSpread) {
+  Parts parts;
+  EXPECT_EQ(parse(parts.text()).contact.radius_spread, 0.0);  // every disk touches at r by default
+  parts.head += "[contact]\nradius_spread = 0.1\n";
+  EXPECT_EQ(parse(parts.text()).contact.radius_spread, 0.1);
+  for (const char* bad : {"0.2", "-0.01", "nan"}) {
+    parts.head = std::string("[case]\ngeometry = \"plane-stress\"\n[contact]\nradius_spread = ") + bad + "\n";
+    const std::string want = std::string(bad) == "nan" ? ": contact.radius_spread: must be finite (got nan)"
+                                                       : std::string(": contact.radius_spread: must lie in [0, 0.13] "
+                                                                     "(a fraction of the disk radius) (got ") + bad + ")";
+    EXPECT_EQ(parse_error(parts.text()), "case.toml:4" + want);
+  }
+}
+
 TEST(CaseToml, ContactCapMass) {
   Parts parts;
   EXPECT_EQ(parse(parts.text()).contact.cap_mass, CapMass::Disk);  // the disks' own masses by default

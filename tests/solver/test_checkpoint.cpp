@@ -286,6 +286,21 @@ TEST(Checkpoint, IrregularLatticeRoundTripsAndAnotherSeedIsRefused) {
                          "j");
 }
 
+TEST(Checkpoint, SpreadContactRadiiRoundTripAndAnotherSpreadIsRefused) {
+  // [contact] radius_spread: a restart builds the same contact radii again (the seed and the
+  // positions decide them) and continues bit for bit; another spread is another case.
+  std::string with = kImpact, other = kImpact;
+  const std::string contact = "[contact]\n";
+  ASSERT_NE(with.find(contact), std::string::npos);
+  with.replace(with.find(contact), contact.size(), contact + "radius_spread = 0.13\n");
+  other.replace(other.find(contact), contact.size(), contact + "radius_spread = 0.1\n");
+  const std::string jitter = "[mesh]\njitter = 0.3\njitter_seed = 4\n";
+  const Case c = parse_case(jitter + with, "impact.toml", ".");
+  Solver a(c, mesh_case(c));
+  ASSERT_FALSE(a.model().contact_radius.empty());
+  round_trip_then_refuse(c, a, parse_case(jitter + other, "impact.toml", "."), "s");
+}
+
 TEST(Checkpoint, AnotherCaseOrLatticeIsRefused) {
   const Case c = parse_case(kImpact, "impact.toml", ".");
   Solver a(c, mesh_case(c));

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "hexdem/meshing/lattice.hpp"
 
@@ -30,5 +31,22 @@ inline constexpr double kMaxJitter = 0.3;
 /// gives the same lattice in any disk order. `fraction` must lie in [0, kMaxJitter]; 0 leaves
 /// the lattice unchanged. Returns the number of disks moved.
 std::int64_t jitter_lattice(Lattice& lattice, double fraction, std::uint64_t seed);
+
+/// Interior disks of `lattice`, 1 per disk: a full disk with six bonds whose cell is the whole
+/// hexagon 2 sqrt(3) r^2, in no boundary set. The disks that jitter_lattice moves and that
+/// contact_radii spreads; the rest (the outline's edges, semi-disks, sets) stay as generated.
+std::vector<std::uint8_t> interior_disks(const Lattice& lattice);
+
+/// Largest spread of the contact radii: an interior disk's unbonded neighbours are at least
+/// 2 sqrt(3) r - 2 kMaxJitter r = 2.26 r away (second neighbours, both moved towards each
+/// other), so contact radii up to 1.13 r never overlap a disk they are not bonded to.
+inline constexpr double kMaxRadiusSpread = 0.13;
+
+/// Contact radii of a polydisperse broken packing ([contact] radius_spread, docs/model.md,
+/// "Contact radii"): an interior disk's contact radius is r (1 + s (2u - 1)) [m], u uniform in
+/// [0, 1) from `seed` and the disk's position (not its index: the same in any disk order);
+/// every other disk keeps r. Mass, cell and bonds keep r. Empty when s = 0; s must lie in
+/// [0, kMaxRadiusSpread].
+std::vector<double> contact_radii(const Lattice& lattice, double spread, std::uint64_t seed);
 
 }  // namespace hexdem::meshing

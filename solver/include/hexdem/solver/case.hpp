@@ -132,6 +132,11 @@ struct ContactControl {
   /// its neighbours, and its contacts softer; WholeCell reckons the cap with the mass of the
   /// whole cell (docs/model.md, "Energy at contacts").
   CapMass cap_mass = CapMass::Disk;
+  /// Spread s of the contact radii: each interior disk touches others as a disk of radius
+  /// r (1 + s (2u - 1)), u uniform from [mesh] jitter_seed, so that a broken packing is
+  /// polydisperse and does not fall back into the lattice's rows (docs/model.md, "Contact
+  /// radii"); [0, meshing::kMaxRadiusSpread], 0 = every disk touches at r.
+  double radius_spread = 0;
 };
 
 /// Spatially correlated random strength (docs/model.md, "Random strength"): every strength of

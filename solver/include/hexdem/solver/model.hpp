@@ -257,6 +257,9 @@ struct Model {
                                                   ///< (x_c: lever arm from the centre) [N m]
   std::vector<double> mass;            ///< m = rho A w (w: thickness or b); I = m r^2 / 2 is disk_inertia(i)
   std::vector<double> radius;          ///< [m]
+  /// Radius at which disk i touches others ([contact] radius_spread) [m]; empty: radius.
+  /// Read through contact_r(i) and contact_radii(); mass, inertia and bonds keep radius.
+  std::vector<double> contact_radius;
   std::vector<double> cell_area;       ///< [m^2]
   std::vector<double> weight;          ///< axisymmetric: w = ring radius b [m]; empty in plane models (w = thickness): disk_weight(i)
   std::vector<std::uint8_t> kind;
@@ -510,6 +513,12 @@ struct Model {
   /// No plasticity, failure or J2 disks: the bond pass is elastic_bond_forces, and the bonds
   /// keep their pair force (pair_fx, pair_fy) instead of f_n, nx and ny.
   [[nodiscard]] bool elastic_lattice() const { return !(any_plastic || any_breakable || any_softening || any_j2); }
+  /// The radius at which disk i touches others [m] (docs/model.md, "Contact radii").
+  [[nodiscard]] double contact_r(std::size_t i) const { return contact_radius.empty() ? radius[i] : contact_radius[i]; }
+  /// The contact radii of all disks [m], num_disks() of them.
+  [[nodiscard]] const double* contact_radii() const {
+    return contact_radius.empty() ? radius.data() : contact_radius.data();
+  }
   /// Rest length of bond b [m].
   [[nodiscard]] double rest(std::size_t b) const { return kind_rest.empty() ? rest_length[b] : kind_rest[spring_kind[b]]; }
   /// The length at which bond b's disks touch once it has broken [m]: r_i + r_j, or on an
@@ -517,7 +526,7 @@ struct Model {
   /// than r_i + r_j are not pushed apart when their bond breaks (docs/model.md, "Irregular
   /// lattice").
   [[nodiscard]] double touch(std::size_t b) const {
-    const double sum = radius[static_cast<std::size_t>(bi[b])] + radius[static_cast<std::size_t>(bj[b])];
+    const double sum = contact_r(static_cast<std::size_t>(bi[b])) + contact_r(static_cast<std::size_t>(bj[b]));
     return touch_at_rest ? std::min(rest(b), sum) : sum;
   }
   [[nodiscard]] double kn(std::size_t b) const { return k_n.empty() ? kind_k_n[spring_kind[b]] : k_n[b]; }
