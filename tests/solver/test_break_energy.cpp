@@ -12,6 +12,8 @@
 #include "hexdem/solver/case_toml.hpp"
 #include "hexdem/solver/solver.hpp"
 
+#include "common/plate_impact.hpp"
+
 namespace {
 
 using namespace hexdem;
@@ -153,56 +155,7 @@ struct ImpactResult {
 };
 
 ImpactResult impact(double safety, bool softening) {
-  std::string text = R"(units = "mm"
-[case]
-name = "plate_impact"
-geometry = "plane-strain"
-thickness = 0.01
-[mesh]
-radius = 1.0e-3
-[[body]]
-name = "plate"
-material = 1
-  [[body.shape]]
-  type = "rectangle"
-  min = [-40.0, -20.0]
-  max = [40.0, 0.0]
-  boundary = { bottom = "base", right = "far", top = "face", left = "far" }
-[[body]]
-name = "disk"
-material = 2
-  [[body.shape]]
-  type = "circle"
-  center = [0.0, 6.0]
-  radius = 5.0
-  boundary = "skin"
-[[material]]
-id = 1
-name = "concrete"
-density = 2400.0
-E = 30e9
-nu = 0.2
-tensile_strength = 3e6
-compressive_strength = 30e6
-cohesion = 6e6
-friction_angle = 30.0
-)";
-  if (softening) text += "fracture_energy = 100.0\n";
-  text += R"([[material]]
-id = 2
-name = "steel"
-density = 7850.0
-E = 210e9
-nu = 0.3
-[[boundary]]
-set = "base"
-type = "fixed"
-[[initial_velocity]]
-body = "disk"
-velocity = [0.0, -50.0]
-[contact]
-damping = 0.5
-)";
+  std::string text = hexdem::testing::plate_impact_case("", softening ? "fracture_energy = 100.0\n" : "");
   // 0.225 / dt_c, dt_c = 0.9 x critical, is the cap 0.2 / dt at safety 0.8: the contacts'
   // stiffness refers to the default step whatever the step used.
   text += "resolution = 0.225\n[time]\nend = 80e-6\nsafety = " + std::to_string(safety) + "\n";

@@ -13,66 +13,17 @@
 #include "hexdem/solver/case_toml.hpp"
 #include "hexdem/solver/solver.hpp"
 
+#include "common/plate_impact.hpp"
+
 namespace {
 
 using namespace hexdem;
 using namespace hexdem::solver;
 
-/// A steel disk at 50 m/s on a concrete plate with softening bonds (test_break_energy.cpp's
-/// impact), on an irregular lattice (f = 0.3), r = 1 mm, with the given spread.
+/// The plate impact (common/plate_impact.hpp) with softening bonds and friction 0.5 on an
+/// irregular lattice (f = 0.3), with the given spread.
 Case plate_impact(double spread, double end) {
-  std::string text = R"(units = "mm"
-[case]
-name = "plate_impact"
-geometry = "plane-strain"
-thickness = 0.01
-[mesh]
-radius = 1.0e-3
-jitter = 0.3
-jitter_seed = 4
-[[body]]
-name = "plate"
-material = 1
-  [[body.shape]]
-  type = "rectangle"
-  min = [-40.0, -20.0]
-  max = [40.0, 0.0]
-  boundary = { bottom = "base", right = "far", top = "face", left = "far" }
-[[body]]
-name = "disk"
-material = 2
-  [[body.shape]]
-  type = "circle"
-  center = [0.0, 6.0]
-  radius = 5.0
-  boundary = "skin"
-[[material]]
-id = 1
-name = "concrete"
-density = 2400.0
-E = 30e9
-nu = 0.2
-tensile_strength = 3e6
-compressive_strength = 30e6
-cohesion = 6e6
-friction_angle = 30.0
-fracture_energy = 100.0
-friction = 0.5
-[[material]]
-id = 2
-name = "steel"
-density = 7850.0
-E = 210e9
-nu = 0.3
-[[boundary]]
-set = "base"
-type = "fixed"
-[[initial_velocity]]
-body = "disk"
-velocity = [0.0, -50.0]
-[contact]
-damping = 0.5
-)";
+  std::string text = hexdem::testing::plate_impact_case("jitter = 0.3\njitter_seed = 4\n", "fracture_energy = 100.0\nfriction = 0.5\n");
   text += "radius_spread = " + std::to_string(spread) + "\n[time]\nend = " + std::to_string(end) + "\n";
   return parse_case(text, "impact.toml", ".");
 }
