@@ -176,7 +176,7 @@ Reader::Defaults Reader::read_lattice(const toml::table& lattice) const {
 
 void Reader::read_body(const toml::table& table, std::size_t index, const Defaults& defaults) {
   const std::string path = "body[" + std::to_string(index) + "]";
-  check_keys(table, path, {"name", "material", "radius", "angle", "origin", "shape"});
+  check_keys(table, path, {"name", "material", "radius", "radius_factor", "angle", "origin", "shape"});
 
   BodyOutline body;
   const toml::node& name = required(table, "name", path);
@@ -199,15 +199,30 @@ void Reader::read_body(const toml::table& table, std::size_t index, const Defaul
     body.material = static_cast<int>(id->get());
   }
 
-  // Resolution: the body's own key, then the command line, then [lattice].
-  if (const toml::node* n = table.get("radius")) {
-    body.radius = positive(*n, path + ".radius") * factor_;
+  // Resolution: the body's own key, then the command line, then [lattice]; radius_factor
+  // scales the last two, so that a body refined against the others stays so at any --radius.
+  const toml::node* own_radius = table.get("radius");
+  const toml::node* radius_factor = table.get("radius_factor");
+  if (own_radius != nullptr && radius_factor != nullptr)
+    fail(*radius_factor, path + ".radius_factor",
+         "give the body's radius or its radius_factor, not both (got radius_factor = " +
+             describe(*radius_factor) + ")");
+  if (own_radius != nullptr) {
+    body.radius = positive(*own_radius, path + ".radius") * factor_;
   } else {
     body.radius = options_.radius ? options_.radius : defaults.radius;
   }
   if (!body.radius)
     throw InputError(source_ + ": body '" + escape_text(body.name) +
                      "': no disk radius (give --radius or [lattice] radius)");
+  if (radius_factor != nullptr) {
+    const double f = positive(*radius_factor, path + ".radius_factor");
+    if (f < kMinRadiusFactor || f > kMaxRadiusFactor)
+      fail(*radius_factor, path + ".radius_factor",
+           "must be in [" + format_number(kMinRadiusFactor) + ", " + format_number(kMaxRadiusFactor) +
+               "] (got " + describe(*radius_factor) + ")");
+    body.radius = *body.radius * f;
+  }
   if (const toml::node* n = table.get("angle")) {
     body.angle_deg = angle(*n, path + ".angle");
   } else {

@@ -348,6 +348,52 @@ name = "b"
   EXPECT_DOUBLE_EQ(body.outers[0].points[2].x, 0.1);
 }
 
+// radius_factor scales the radius the body would otherwise get ([lattice], or the command line
+// over it), so that a body refined against the others stays refined at any --radius; a factor
+// is a pure number, not a length in the file's units.
+TEST(OutlineToml, RadiusFactorScalesTheLatticeRadius) {
+  const std::string text = R"(
+units = "mm"
+[lattice]
+radius = 0.5
+[[body]]
+name = "target"
+  [[body.shape]]
+  type = "rectangle"
+  min = [0, 0]
+  max = [10, 5]
+[[body]]
+name = "warhead"
+radius_factor = 0.5
+  [[body.shape]]
+  type = "circle"
+  center = [20, 0]
+  radius = 3
+)";
+  const Outline from_file = parse(text, ReadOptions{});
+  EXPECT_DOUBLE_EQ(*from_file.bodies[0].radius, 0.5e-3);
+  EXPECT_DOUBLE_EQ(*from_file.bodies[1].radius, 0.25e-3);
+  const Outline from_command_line = parse(text, with_radius(1e-3));
+  EXPECT_DOUBLE_EQ(*from_command_line.bodies[0].radius, 1e-3);
+  EXPECT_DOUBLE_EQ(*from_command_line.bodies[1].radius, 0.5e-3);
+}
+
+TEST(OutlineToml, RejectsBadRadiusFactor) {
+  const std::string body = R"(
+[[body]]
+name = "warhead"
+)";
+  EXPECT_EQ(error_of(body + "radius_factor = 0\n"),
+            "case.toml:3: body[0].radius_factor: must be > 0 (got 0)");
+  EXPECT_EQ(error_of(body + "radius_factor = 1000\n"),
+            "case.toml:3: body[0].radius_factor: must be in [0.01, 100] (got 1000)");
+  EXPECT_EQ(error_of(body + "radius_factor = \"half\"\n"),
+            "case.toml:3: body[0].radius_factor: expected a number (got \"half\")");
+  EXPECT_EQ(error_of(body + "radius = 0.25\nradius_factor = 0.5\n"),
+            "case.toml:4: body[0].radius_factor: give the body's radius or its radius_factor, not "
+            "both (got radius_factor = 0.5)");
+}
+
 TEST(OutlineToml, ScaleOptionOverridesUnits) {
   ReadOptions options = with_radius();
   options.scale = 0.0254;

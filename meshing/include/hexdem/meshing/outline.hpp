@@ -34,13 +34,19 @@ struct LatticeOptions {
   Vec2 origin{0.0, 0.0};      ///< a lattice point [m]
 };
 
+/// Range of a body's `radius_factor` (its disk radius as a multiple of the lattice's, from
+/// the command line or [lattice]): refining one body 100 times is as far as a mesh goes.
+inline constexpr double kMinRadiusFactor = 0.01;
+inline constexpr double kMaxRadiusFactor = 100.0;
+
 /// One body: the region bounded by its outer loops minus its holes.
 struct BodyOutline {
   std::string name;                   ///< body name (unique in the outline)
   int material = 1;                   ///< material id (refers to the case's materials)
   std::vector<Loop> outers;           ///< disjoint outer boundaries
   std::vector<Loop> holes;            ///< holes, each inside one outer boundary
-  std::optional<double> radius;       ///< overrides LatticeOptions::radius [m]
+  std::optional<double> radius;       ///< overrides LatticeOptions::radius [m] (the TOML
+                                      ///< reader folds a body's radius_factor into it)
   std::optional<double> angle_deg;    ///< overrides LatticeOptions::angle_deg [deg]
   std::optional<Vec2> origin;         ///< overrides LatticeOptions::origin [m]
   std::string where;                  ///< origin for messages
