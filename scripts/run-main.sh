@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: installs what is missing, builds hexdem, and runs case 4 of the validation
 # suite, the steel warhead into a concrete disc (paper Section 5.3), at 100 m/s and, for the
-# comparison figures, at 50 and 25 m/s (full size, 8,053 disks each, 2 threads: well under a
+# comparison figures, at 50 and 25 m/s (full size, 8,716 disks each, 2 threads: well under a
 # minute each on an idle 2-core machine); then its numbers and figures. Also meshes the
 # warhead's outline and renders two pictures of the lattice.
 # Output: hexdem-output/ (or $1): the .pvd series with their frames, the CSV histories, the
