@@ -93,9 +93,8 @@ struct Edge {
 /// outline (semi-disks on neat edges, points on the boundary) use a0/b0 with kTolerance.
 constexpr double kPerturbX = 0.75487766624669276e-7;
 constexpr double kPerturbY = 0.56984029099805327e-7;
-/// Geometric tolerance in units of d: a lattice point this close to an edge is on it, and an
-/// edge whose end points are this close to one lattice line runs along it.
-constexpr double kTolerance = 1e-3;
+/// Geometric tolerance in units of d (lattice_generator.hpp).
+constexpr double kTolerance = kBoundaryTolerance;
 
 /// A lattice point whose hexagon meets the outline.
 struct BoundaryPoint {

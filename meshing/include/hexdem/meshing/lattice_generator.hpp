@@ -24,6 +24,12 @@ namespace hexdem::meshing {
 /// Default limit on the number of disks of one generation (GeneratorOptions::max_disks).
 inline constexpr std::int64_t kDefaultMaxDisks = 100'000'000;
 
+/// The generator's geometric tolerance, in units of the lattice spacing d = 2r: a lattice
+/// point this close to an outline edge is on the edge (it becomes a disk even when it lies
+/// just outside), and an edge whose end points are this close to one lattice line runs along
+/// it. Checks of disks against an outline's lines (boundary_checks.cpp) use the same.
+inline constexpr double kBoundaryTolerance = 1e-3;
+
 /// Memory `hexdem mesh` needs per disk, for messages [bytes]: the disk arrays (x, y, radius,
 /// cell area and centroid, kind, body, material: 57 bytes), three bonds (10 bytes each) and
 /// the generator's and writer's working arrays. Measured: 143 MB peak resident for a

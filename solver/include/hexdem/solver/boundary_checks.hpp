@@ -12,7 +12,8 @@ namespace hexdem::solver {
 /// the plane and a disk) a body that crosses, or lies beyond, the mirror plane of a
 /// `symmetry` condition. The plane is the line x = const (or y = const) through the set's
 /// edges; the model side is the side the set's outward normals point away from. A disk whose
-/// centre lies more than 1e-6 r beyond the plane is on the mirror side: a half model cannot
+/// centre lies beyond the plane by more than the generator's tolerance (meshing::
+/// kBoundaryTolerance, 1e-3 of the spacing 2r) is on the mirror side: a half model cannot
 /// hold it (its mirror image would overlap it, or the body would be modelled twice). Sets that
 /// do not exist or are not straight are left to the solver's own checks.
 void check_symmetry_planes(const Case& c, const meshing::Lattice& lattice);
